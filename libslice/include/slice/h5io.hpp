@@ -1,0 +1,55 @@
+#pragma once
+// joints.h5 and blocks.h5, schema version 1 (DESIGN section 7). This module owns both formats:
+// writers are atomic (written to "<out>.partial", renamed when complete) and deterministic
+// (no time stamps: the same content gives the same bytes); readers validate everything and
+// throw Error naming the file, the dataset, the row and the fix.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "slice/geometry.hpp"
+#include "slice/scene.hpp"
+
+namespace slice {
+
+inline constexpr const char* kSchemaName = "rockslice";
+inline constexpr int kSchemaVersion = 1;
+
+enum class FileKind { joints, blocks };
+const char* to_string(FileKind k);
+
+/// Who made a file, from what: root attributes. No clock time, so reruns are byte-identical.
+struct Provenance {
+  std::string tool;          // e.g. "slice-joints"
+  std::string version;       // rockslice version
+  std::string command_line;  // as the user typed it
+  std::string input;         // input file name(s), as given
+  std::string input_sha256;  // hash of the input file's content (hex)
+};
+
+/// The root attributes of any rockslice file.
+struct FileHeader {
+  std::string schema;
+  int schema_version = 0;
+  FileKind kind = FileKind::joints;
+  int dimension = 3;
+  Provenance provenance;
+};
+
+/// blocks.h5: the joint system it was cut from plus the blocks.
+struct BlockSystem {
+  JointSystem joints;
+  std::vector<Block> blocks;
+  bool pruned = false;
+};
+
+void write_joints(const std::filesystem::path& out, const JointSystem& js, const Provenance& prov);
+JointSystem read_joints(const std::filesystem::path& in);
+
+void write_blocks(const std::filesystem::path& out, const BlockSystem& bs, const Provenance& prov);
+BlockSystem read_blocks(const std::filesystem::path& in);
+
+/// Reads and checks the root attributes only (schema, version <= kSchemaVersion).
+FileHeader read_header(const std::filesystem::path& in);
+
+}  // namespace slice

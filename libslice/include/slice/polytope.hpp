@@ -1,0 +1,27 @@
+#pragma once
+// Small exact-enough polytope helpers for regions given by a few half-spaces (domains, zones):
+// vertex enumeration by plane triples. O(n^4); meant for tens of planes, not for blocks.
+#include <span>
+#include <vector>
+
+#include "slice/geometry.hpp"
+
+namespace slice {
+
+struct PolytopeInfo {
+  bool bounded = false;       // the recession cone is {0}
+  bool has_interior = false;  // positive volume
+  std::vector<Vec3> vertices;
+  Vec3 min = Vec3::Zero(), max = Vec3::Zero();  // bounding box of the vertices
+  Vec3 interior_point = Vec3::Zero();           // mean of the vertices
+  double volume = 0;
+};
+
+/// Analyses the region normal . x <= d of `planes` (unit normals). `tol` is an absolute length:
+/// a point within tol of a plane is on it.
+PolytopeInfo analyse_polytope(std::span<const Plane> planes, double tol);
+
+/// Six planes of the box [min, max], outward normals, in the order -x +x -y +y -z +z.
+std::vector<Plane> box_planes(const Vec3& min, const Vec3& max);
+
+}  // namespace slice

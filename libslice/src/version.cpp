@@ -1,0 +1,5 @@
+#include "slice/version.hpp"
+
+namespace slice {
+const char* version() { return SLICE_VERSION; }
+}  // namespace slice

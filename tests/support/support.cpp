@@ -1,0 +1,68 @@
+#include "support/support.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+namespace test {
+
+TempDir::TempDir() {
+  static std::atomic<int> counter{0};
+  path_ = fs::temp_directory_path() /
+          ("rockslice-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+  fs::remove_all(path_);
+  fs::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  fs::remove_all(path_, ec);
+}
+
+fs::path data_path(const std::string& name) { return fs::path(SLICE_DATA_DIR) / name; }
+fs::path test_data_path(const std::string& name) { return fs::path(SLICE_TEST_DATA_DIR) / name; }
+
+void write_text(const fs::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary);
+  out << text;
+  if (!out) throw std::runtime_error("cannot write " + file.string());
+}
+
+std::string read_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + file.string());
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+namespace {
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+}  // namespace
+
+int run_shell(const std::string& command) {
+  const int status = std::system(command.c_str());
+  if (status == -1) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+ToolRun run_tool(const std::string& tool, const std::vector<std::string>& args) {
+  TempDir tmp;
+  std::string cmd = quote((fs::path(SLICE_TOOLS_DIR) / tool).string());
+  for (const auto& a : args) cmd += " " + quote(a);
+  cmd += " </dev/null >" + quote((tmp / "out").string()) + " 2>" + quote((tmp / "err").string());
+  ToolRun r;
+  r.exit_code = run_shell(cmd);
+  r.out = read_bytes(tmp / "out");
+  r.err = read_bytes(tmp / "err");
+  return r;
+}
+
+}  // namespace test

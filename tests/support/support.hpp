@@ -1,0 +1,46 @@
+#pragma once
+// Test helpers shared by every test folder.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace test {
+
+namespace fs = std::filesystem;
+
+/// A fresh directory under the system temp dir, removed with its content on destruction.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const fs::path& path() const { return path_; }
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  fs::path path_;
+};
+
+/// A file of the repository's data/ folder, e.g. data_path("cube-3sets.toml").
+fs::path data_path(const std::string& name);
+/// A file of tests/data/ (small inputs made for the tests).
+fs::path test_data_path(const std::string& name);
+
+/// Writes text to a file (for bad-input scenes made inside a test).
+void write_text(const fs::path& file, const std::string& text);
+/// The whole content of a file, as bytes.
+std::string read_bytes(const fs::path& file);
+
+struct ToolRun {
+  int exit_code = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+/// Runs a built tool (e.g. "slice-joints") with arguments, no shell quoting issues for plain
+/// paths; stdin is /dev/null.
+ToolRun run_tool(const std::string& tool, const std::vector<std::string>& args);
+/// Runs any command line through /bin/sh; returns its exit code.
+int run_shell(const std::string& command);
+
+}  // namespace test

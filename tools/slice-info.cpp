@@ -1,0 +1,117 @@
+// slice-info: what a rockslice HDF5 file holds, as text or JSON (stdout).
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "common/tool.hpp"
+#include "slice/h5io.hpp"
+#include "slice/polytope.hpp"
+#include "slice/scene.hpp"
+
+namespace {
+
+using nlohmann::ordered_json;
+
+ordered_json describe_joints(const slice::JointSystem& js) {
+  ordered_json j;
+  j["name"] = js.name;
+  j["seed"] = js.seed;
+  const auto poly = slice::analyse_polytope(js.domain.planes, js.options.tolerance * js.length_scale);
+  j["domain"] = {{"planes", js.domain.planes.size()},
+                 {"min", {poly.min.x(), poly.min.y(), poly.min.z()}},
+                 {"max", {poly.max.x(), poly.max.y(), poly.max.z()}},
+                 {"volume", poly.volume},
+                 {"length_scale", js.length_scale}};
+  j["options"] = {{"order", slice::to_string(js.options.order)},
+                  {"min_inscribed_diameter", js.options.min_inscribed_diameter},
+                  {"max_aspect_ratio", js.options.max_aspect_ratio},
+                  {"tolerance", js.options.tolerance}};
+  std::map<std::string, std::size_t> by_kind{{"rock", 0}, {"construction", 0}, {"boundary", 0}};
+  std::size_t persistent = 0;
+  std::vector<std::size_t> per_set(js.sets.size(), 0);
+  std::size_t deterministic = 0;
+  for (const auto& jt : js.joints) {
+    ++by_kind[slice::to_string(jt.kind)];
+    persistent += jt.persistent() ? 1 : 0;
+    if (jt.set < 0)
+      ++deterministic;
+    else
+      ++per_set[std::size_t(jt.set)];
+  }
+  ordered_json sets = ordered_json::array();
+  for (std::size_t s = 0; s < js.sets.size(); ++s)
+    sets.push_back({{"name", js.sets[s].name}, {"joints", per_set[s]}});
+  j["joints"] = {{"total", js.joints.size()},
+                 {"persistent", persistent},
+                 {"polygons", js.joints.size() - persistent},
+                 {"deterministic", deterministic},
+                 {"by_kind", by_kind},
+                 {"by_set", sets}};
+  j["zones"] = js.zones.size();
+  return j;
+}
+
+void print_text(const ordered_json& j, const std::string& indent = "") {
+  for (const auto& [key, value] : j.items()) {
+    if (value.is_object()) {
+      std::cout << indent << key << ":\n";
+      print_text(value, indent + "  ");
+    } else if (value.is_array() && !value.empty() && value.front().is_object()) {
+      std::cout << indent << key << ":\n";
+      for (const auto& item : value) {
+        std::cout << indent << "  -";
+        for (const auto& [k, v] : item.items()) std::cout << ' ' << k << '=' << v.dump();
+        std::cout << '\n';
+      }
+    } else {
+      std::cout << indent << key << ": " << (value.is_string() ? value.get<std::string>() : value.dump())
+                << '\n';
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  tool::Tool t{"slice-info", "Summarise a rockslice HDF5 file (joints.h5 or blocks.h5)."};
+  std::string file;
+  bool json = false;
+  t.cli.add_option("file", file, "a .h5 file written by a rockslice tool")->required();
+  t.cli.add_flag("--json", json, "print JSON on stdout instead of text");
+  return t.run(argc, argv, [&] {
+    const slice::FileHeader h = slice::read_header(file);
+    ordered_json j;
+    j["file"] = file;
+    j["kind"] = slice::to_string(h.kind);
+    j["schema"] = h.schema;
+    j["schema_version"] = h.schema_version;
+    j["dimension"] = h.dimension;
+    j["provenance"] = {{"tool", h.provenance.tool},
+                       {"version", h.provenance.version},
+                       {"command_line", h.provenance.command_line},
+                       {"input", h.provenance.input},
+                       {"input_sha256", h.provenance.input_sha256}};
+    if (h.kind == slice::FileKind::joints) {
+      j.update(describe_joints(slice::read_joints(file)));
+    } else {
+      const slice::BlockSystem bs = slice::read_blocks(file);
+      j.update(describe_joints(bs.joints));
+      std::size_t boundary = 0, removed = 0, faces = 0;
+      for (const auto& b : bs.blocks) {
+        boundary += (b.flags & slice::kBoundary) ? 1 : 0;
+        removed += (b.flags & slice::kRemoved) ? 1 : 0;
+        faces += b.faces.size();
+      }
+      j["blocks"] = {{"total", bs.blocks.size()},
+                     {"boundary", boundary},
+                     {"removed", removed},
+                     {"faces", faces},
+                     {"pruned", bs.pruned}};
+    }
+    if (json)
+      std::cout << j.dump(2) << '\n';
+    else
+      print_text(j);
+  });
+}

@@ -1,0 +1,27 @@
+// slice-joints: scene file (TOML) -> joints.h5 (DESIGN sections 3, 6, 7).
+#include <map>
+#include <string>
+
+#include "common/tool.hpp"
+#include "slice/h5io.hpp"
+#include "slice/scene.hpp"
+
+int main(int argc, char** argv) {
+  tool::Tool t{"slice-joints",
+               "Read a scene file, generate its joints and write them to an HDF5 file."};
+  std::string scene_file;
+  std::string out = "joints.h5";
+  t.cli.add_option("scene", scene_file, "scene file (TOML, see DESIGN section 6)")->required();
+  t.cli.add_option("-o,--output", out, "output file")->capture_default_str();
+  return t.run(argc, argv, [&] {
+    tool::check_output_differs(scene_file, out);
+    const slice::Scene scene = slice::load_scene(scene_file);
+    const slice::JointSystem js = slice::generate_joints(scene);
+    slice::write_joints(out, js, t.provenance(scene_file));
+    std::size_t persistent = 0;
+    for (const auto& j : js.joints) persistent += j.persistent() ? 1 : 0;
+    t.say(std::to_string(js.joints.size()) + " joints (" + std::to_string(persistent) +
+          " persistent, " + std::to_string(js.joints.size() - persistent) + " polygons) in " +
+          std::to_string(js.sets.size()) + " sets -> " + out);
+  });
+}
