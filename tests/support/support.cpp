@@ -56,8 +56,14 @@ int run_shell(const std::string& command) {
 ToolRun run_tool(const std::string& tool, const std::vector<std::string>& args) {
   TempDir tmp;
   std::string cmd = quote((fs::path(SLICE_TOOLS_DIR) / tool).string());
-  for (const auto& a : args) cmd += " " + quote(a);
-  cmd += " </dev/null >" + quote((tmp / "out").string()) + " 2>" + quote((tmp / "err").string());
+  for (const auto& a : args) {
+    cmd += ' ';
+    cmd += quote(a);
+  }
+  cmd += " </dev/null >";
+  cmd += quote((tmp / "out").string());
+  cmd += " 2>";
+  cmd += quote((tmp / "err").string());
   ToolRun r;
   r.exit_code = run_shell(cmd);
   r.out = read_bytes(tmp / "out");

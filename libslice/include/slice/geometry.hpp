@@ -1,6 +1,7 @@
 #pragma once
 // Planes, half-spaces and blocks. A convex block is nothing but its faces (DESIGN section 1).
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <vector>
 

@@ -1,0 +1,114 @@
+#include "slice/polytope.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+namespace slice {
+namespace {
+
+// A direction counts as a ray of the region when no plane faces it by more than this
+// (dimensionless: normals and directions are unit vectors).
+constexpr double kRayCos = 1e-12;
+// Three planes meet in one point when their normals' determinant exceeds this.
+constexpr double kMinDet = 1e-12;
+
+bool has_ray(std::span<const Plane> planes) {
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    for (std::size_t j = i + 1; j < planes.size(); ++j) {
+      Vec3 r = planes[i].normal.cross(planes[j].normal);
+      if (r.norm() < kMinDet) continue;
+      r.normalize();
+      for (const double sign : {1.0, -1.0}) {
+        const bool ray = std::all_of(planes.begin(), planes.end(), [&](const Plane& p) {
+          return sign * p.normal.dot(r) <= kRayCos;
+        });
+        if (ray) return true;
+      }
+    }
+  }
+  return false;
+}
+
+int normal_rank(std::span<const Plane> planes) {
+  Eigen::Matrix<double, Eigen::Dynamic, 3> n(planes.size(), 3);
+  for (std::size_t i = 0; i < planes.size(); ++i) n.row(Eigen::Index(i)) = planes[i].normal;
+  Eigen::FullPivLU<Eigen::Matrix<double, Eigen::Dynamic, 3>> lu(n);
+  lu.setThreshold(kMinDet);
+  return int(lu.rank());
+}
+
+}  // namespace
+
+std::vector<Plane> box_planes(const Vec3& min, const Vec3& max) {
+  std::vector<Plane> p;
+  for (int axis = 0; axis < 3; ++axis) {
+    p.push_back({-Vec3::Unit(axis), -min[axis]});
+    p.push_back({Vec3::Unit(axis), max[axis]});
+  }
+  return p;
+}
+
+PolytopeInfo analyse_polytope(std::span<const Plane> planes, double tol) {
+  PolytopeInfo info;
+  if (planes.size() < 4 || normal_rank(planes) < 3 || has_ray(planes)) return info;
+  info.bounded = true;
+
+  const std::size_t n = planes.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      for (std::size_t k = j + 1; k < n; ++k) {
+        Eigen::Matrix3d a;
+        a.row(0) = planes[i].normal;
+        a.row(1) = planes[j].normal;
+        a.row(2) = planes[k].normal;
+        if (std::abs(a.determinant()) < kMinDet) continue;
+        const Vec3 x = a.partialPivLu().solve(Vec3(planes[i].d, planes[j].d, planes[k].d));
+        const bool inside = std::all_of(planes.begin(), planes.end(),
+                                        [&](const Plane& p) { return p.distance(x) <= tol; });
+        if (!inside) continue;
+        const bool known = std::any_of(info.vertices.begin(), info.vertices.end(),
+                                       [&](const Vec3& v) { return (v - x).norm() <= tol; });
+        if (!known) info.vertices.push_back(x);
+      }
+    }
+  }
+  if (info.vertices.empty()) return info;
+
+  info.min = info.max = info.vertices.front();
+  Vec3 sum = Vec3::Zero();
+  for (const Vec3& v : info.vertices) {
+    info.min = info.min.cwiseMin(v);
+    info.max = info.max.cwiseMax(v);
+    sum += v;
+  }
+  const Vec3 c = sum / double(info.vertices.size());
+  info.interior_point = c;
+  info.has_interior = info.vertices.size() >= 4 &&
+                      std::all_of(planes.begin(), planes.end(),
+                                  [&](const Plane& p) { return p.distance(c) < -tol; });
+  if (!info.has_interior) return info;
+
+  // Volume: a pyramid from c over every face, V = sum A_f h_f / 3.
+  for (const Plane& p : planes) {
+    std::vector<Vec3> face;
+    for (const Vec3& v : info.vertices)
+      if (std::abs(p.distance(v)) <= tol) face.push_back(v);
+    if (face.size() < 3) continue;
+    Vec3 fc = Vec3::Zero();
+    for (const Vec3& v : face) fc += v;
+    fc /= double(face.size());
+    const Vec3 u = (face.front() - fc).normalized();
+    const Vec3 w = p.normal.cross(u);
+    std::sort(face.begin(), face.end(), [&](const Vec3& a, const Vec3& b) {
+      return std::atan2(w.dot(a - fc), u.dot(a - fc)) < std::atan2(w.dot(b - fc), u.dot(b - fc));
+    });
+    double area = 0;
+    for (std::size_t i = 0; i < face.size(); ++i)
+      area += p.normal.dot((face[i] - fc).cross(face[(i + 1) % face.size()] - fc)) / 2;
+    info.volume += area * -p.distance(c) / 3;
+  }
+  return info;
+}
+
+}  // namespace slice
