@@ -17,7 +17,8 @@ ordered_json describe_joints(const slice::JointSystem& js) {
   ordered_json j;
   j["name"] = js.name;
   j["seed"] = js.seed;
-  const auto poly = slice::analyse_polytope(js.domain.planes, js.options.tolerance * js.length_scale);
+  const auto poly =
+      slice::analyse_polytope(js.domain.planes, js.options.tolerance * js.length_scale);
   j["domain"] = {{"planes", js.domain.planes.size()},
                  {"min", {poly.min.x(), poly.min.y(), poly.min.z()}},
                  {"max", {poly.max.x(), poly.max.y(), poly.max.z()}},
@@ -65,8 +66,8 @@ void print_text(const ordered_json& j, const std::string& indent = "") {
         std::cout << '\n';
       }
     } else {
-      std::cout << indent << key << ": " << (value.is_string() ? value.get<std::string>() : value.dump())
-                << '\n';
+      std::cout << indent << key << ": "
+                << (value.is_string() ? value.get<std::string>() : value.dump()) << '\n';
     }
   }
 }

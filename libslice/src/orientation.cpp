@@ -36,10 +36,14 @@ double sind(double deg) {
   double r = 0;
   reduce(deg, q, r);
   switch (q) {
-    case 0: return sin_r(r);
-    case 1: return cos_r(r);
-    case 2: return -sin_r(r);
-    default: return -cos_r(r);
+    case 0:
+      return sin_r(r);
+    case 1:
+      return cos_r(r);
+    case 2:
+      return -sin_r(r);
+    default:
+      return -cos_r(r);
   }
 }
 
@@ -48,10 +52,14 @@ double cosd(double deg) {
   double r = 0;
   reduce(deg, q, r);
   switch (q) {
-    case 0: return cos_r(r);
-    case 1: return -sin_r(r);
-    case 2: return -cos_r(r);
-    default: return sin_r(r);
+    case 0:
+      return cos_r(r);
+    case 1:
+      return -sin_r(r);
+    case 2:
+      return -cos_r(r);
+    default:
+      return sin_r(r);
   }
 }
 

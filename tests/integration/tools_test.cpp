@@ -53,7 +53,8 @@ TEST_CASE("every tool answers --help and --version with exit 0", "[tools]") {
 TEST_CASE("slice-joints writes joints.h5 that slice-info and h5dump read", "[tools]") {
   test::TempDir tmp;
   test::write_text(tmp / "s.toml", kGoodScene);
-  const auto r = run_tool("slice-joints", {(tmp / "s.toml").string(), "-o", (tmp / "j.h5").string()});
+  const auto r =
+      run_tool("slice-joints", {(tmp / "s.toml").string(), "-o", (tmp / "j.h5").string()});
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   CHECK_FALSE(test::fs::exists(tmp / "j.h5.partial"));
@@ -90,8 +91,9 @@ TEST_CASE("slice-joints output is byte-identical on a rerun", "[tools]") {
 TEST_CASE("the example scenes give the expected joints", "[tools]") {
   test::TempDir tmp;
   SECTION("cube-3sets: three orthogonal sets at 1 m, nine planes each") {
-    REQUIRE(run_tool("slice-joints", {test::data_path("cube-3sets.toml").string(), "-o",
-                                      (tmp / "j.h5").string()}).exit_code == 0);
+    REQUIRE(run_tool("slice-joints",
+                     {test::data_path("cube-3sets.toml").string(), "-o", (tmp / "j.h5").string()})
+                .exit_code == 0);
     const auto j = info_json(tmp / "j.h5");
     CHECK(j["joints"]["total"] == 27);
     CHECK(j["joints"]["persistent"] == 27);
@@ -101,7 +103,8 @@ TEST_CASE("the example scenes give the expected joints", "[tools]") {
   }
   SECTION("table3-persistent: 103 planes at 3.7 m (reference/table3-block-counts.md)") {
     REQUIRE(run_tool("slice-joints", {test::data_path("table3-persistent.toml").string(), "-o",
-                                      (tmp / "j.h5").string()}).exit_code == 0);
+                                      (tmp / "j.h5").string()})
+                .exit_code == 0);
     const auto j = info_json(tmp / "j.h5");
     CHECK(j["joints"]["total"] == 103);
     CHECK(j["joints"]["by_kind"]["rock"] == 103);
@@ -109,8 +112,7 @@ TEST_CASE("the example scenes give the expected joints", "[tools]") {
   }
 }
 
-TEST_CASE("bad input: exit 1, one line naming file, line and key, nothing written",
-          "[tools]") {
+TEST_CASE("bad input: exit 1, one line naming file, line and key, nothing written", "[tools]") {
   struct Bad {
     const char* name;
     std::string text;
@@ -118,19 +120,25 @@ TEST_CASE("bad input: exit 1, one line naming file, line and key, nothing writte
   };
   const std::string box = "[domain]\nbox = { min = [0, 0, 0], max = [4, 4, 4] }\n";
   const std::vector<Bad> cases = {
-      {"unknown key", box + "[[sets]]\ndip = 0\ndip_direction = 0\nspaceing = 1.0\n",
+      {"unknown key",
+       box + "[[sets]]\ndip = 0\ndip_direction = 0\nspaceing = 1.0\n",
        {":6", "spaceing", "spacing"}},
-      {"wrong type", box + "[[sets]]\ndip = \"steep\"\ndip_direction = 0\nspacing = 1.0\n",
+      {"wrong type",
+       box + "[[sets]]\ndip = \"steep\"\ndip_direction = 0\nspacing = 1.0\n",
        {":4", "dip"}},
-      {"dip above 90", box + "[[sets]]\ndip = 95\ndip_direction = 0\nspacing = 1.0\n",
+      {"dip above 90",
+       box + "[[sets]]\ndip = 95\ndip_direction = 0\nspacing = 1.0\n",
        {":4", "dip"}},
-      {"dip direction 360", box + "[[sets]]\ndip = 5\ndip_direction = 360\nspacing = 1.0\n",
+      {"dip direction 360",
+       box + "[[sets]]\ndip = 5\ndip_direction = 360\nspacing = 1.0\n",
        {":5", "dip_direction"}},
-      {"negative spacing", box + "[[sets]]\ndip = 5\ndip_direction = 0\nspacing = -1.0\n",
+      {"negative spacing",
+       box + "[[sets]]\ndip = 5\ndip_direction = 0\nspacing = -1.0\n",
        {":6", "spacing"}},
       {"NaN", box + "[[sets]]\ndip = nan\ndip_direction = 0\nspacing = 1.0\n", {":4", "dip"}},
       {"box min >= max", "[domain]\nbox = { min = [0, 0, 0], max = [4, 0, 4] }\n", {":2", "box"}},
-      {"stochastic key", box + "[[sets]]\ndip = 5\ndip_direction = 0\nfisher_kappa = 20\n",
+      {"stochastic key",
+       box + "[[sets]]\ndip = 5\ndip_direction = 0\nfisher_kappa = 20\n",
        {":6", "fisher_kappa", "not supported yet"}},
       {"TOML syntax", box + "[[sets]\n", {":3"}},
   };
@@ -157,17 +165,20 @@ TEST_CASE("bad input leaves an existing output untouched", "[tools]") {
   REQUIRE(run_tool("slice-joints", {(tmp / "good.toml").string(), "-o", (tmp / "j.h5").string()})
               .exit_code == 0);
   const std::string before = test::read_bytes(tmp / "j.h5");
-  const auto r = run_tool("slice-joints", {(tmp / "bad.toml").string(), "-o", (tmp / "j.h5").string()});
+  const auto r =
+      run_tool("slice-joints", {(tmp / "bad.toml").string(), "-o", (tmp / "j.h5").string()});
   CHECK(r.exit_code == 1);
   CHECK(test::read_bytes(tmp / "j.h5") == before);
   SECTION("a missing scene file") {
-    const auto m = run_tool("slice-joints", {(tmp / "nope.toml").string(), "-o", (tmp / "j.h5").string()});
+    const auto m =
+        run_tool("slice-joints", {(tmp / "nope.toml").string(), "-o", (tmp / "j.h5").string()});
     CHECK(m.exit_code == 1);
     CHECK_THAT(m.err, Catch::Contains("nope.toml"));
     CHECK(test::read_bytes(tmp / "j.h5") == before);
   }
   SECTION("the output path is the input") {
-    const auto m = run_tool("slice-joints", {(tmp / "good.toml").string(), "-o", (tmp / "good.toml").string()});
+    const auto m = run_tool("slice-joints",
+                            {(tmp / "good.toml").string(), "-o", (tmp / "good.toml").string()});
     CHECK(m.exit_code == 1);
     CHECK(test::read_bytes(tmp / "good.toml") == kGoodScene);
   }

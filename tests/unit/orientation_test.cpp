@@ -53,10 +53,10 @@ TEST_CASE("upward normal of hand-computed orientations", "[orientation]") {
     }
   }
   SECTION("dip 90: the normal is horizontal and points along the dip direction") {
-    check_vec(slice::normal_from_dip(90, 0), {0, 1, 0}, 0);    // dips North
-    check_vec(slice::normal_from_dip(90, 90), {1, 0, 0}, 0);   // dips East
-    check_vec(slice::normal_from_dip(90, 180), {0, -1, 0}, 0); // dips South
-    check_vec(slice::normal_from_dip(90, 270), {-1, 0, 0}, 0); // dips West
+    check_vec(slice::normal_from_dip(90, 0), {0, 1, 0}, 0);     // dips North
+    check_vec(slice::normal_from_dip(90, 90), {1, 0, 0}, 0);    // dips East
+    check_vec(slice::normal_from_dip(90, 180), {0, -1, 0}, 0);  // dips South
+    check_vec(slice::normal_from_dip(90, 270), {-1, 0, 0}, 0);  // dips West
     CHECK(slice::normal_from_dip(90, 37).z() == 0.0);
   }
   SECTION("dip 45 towards East and towards South") {
@@ -66,23 +66,29 @@ TEST_CASE("upward normal of hand-computed orientations", "[orientation]") {
   }
   SECTION("the paper's Table 3 sets, dip direction / dip 122/8, 112/80, 9/85") {
     // sin d sin a, sin d cos a, cos d evaluated by hand (15 digits).
-    check_vec(slice::normal_from_dip(8, 122), {0.118025483305370, -0.073750507261811, 0.990268068741570}, 1e-14);
-    check_vec(slice::normal_from_dip(80, 112), {0.913097848445116, -0.368915477525482, 0.173648177666930}, 1e-14);
-    check_vec(slice::normal_from_dip(85, 9), {0.155839184671897, 0.983929888267910, 0.087155742747658}, 1e-14);
+    check_vec(slice::normal_from_dip(8, 122),
+              {0.118025483305370, -0.073750507261811, 0.990268068741570}, 1e-14);
+    check_vec(slice::normal_from_dip(80, 112),
+              {0.913097848445116, -0.368915477525482, 0.173648177666930}, 1e-14);
+    check_vec(slice::normal_from_dip(85, 9),
+              {0.155839184671897, 0.983929888267910, 0.087155742747658}, 1e-14);
   }
   SECTION("unit length") {
     for (double d = 0; d <= 90; d += 7.5)
-      for (double a = 0; a < 360; a += 11.25) CHECK_THAT(slice::normal_from_dip(d, a).norm(), WithinAbs(1, 1e-15));
+      for (double a = 0; a < 360; a += 11.25)
+        CHECK_THAT(slice::normal_from_dip(d, a).norm(), WithinAbs(1, 1e-15));
   }
 }
 
 TEST_CASE("the paper's Priest-frame pole is exactly -n after the frame change", "[orientation]") {
   // Priest: x North, y East, z Down; N = (cos b cos a, sin b cos a, sin a), a = 90 - dip,
   // b = dip direction - 180: the downward pole of the same plane.
-  struct Case { double dip, dd; };
-  for (const Case c : {Case{8, 122}, Case{80, 112}, Case{85, 9}, Case{0, 0}, Case{90, 0},
-                       Case{90, 90}, Case{90, 180}, Case{90, 270}, Case{45, 45}, Case{30, 300},
-                       Case{60, 225}, Case{12, 359}}) {
+  struct Case {
+    double dip, dd;
+  };
+  for (const Case c :
+       {Case{8, 122}, Case{80, 112}, Case{85, 9}, Case{0, 0}, Case{90, 0}, Case{90, 90},
+        Case{90, 180}, Case{90, 270}, Case{45, 45}, Case{30, 300}, Case{60, 225}, Case{12, 359}}) {
     CAPTURE(c.dip, c.dd);
     const Vec3 n = slice::normal_from_dip(c.dip, c.dd);
     const Vec3 p = slice::priest_to_global(slice::priest_pole(c.dip, c.dd));
@@ -98,9 +104,9 @@ TEST_CASE("the paper's Priest-frame pole is exactly -n after the frame change", 
 TEST_CASE("strike and dip vectors", "[orientation]") {
   // Dip direction East: strike is North (right-hand rule), the dip vector goes East and down.
   check_vec(slice::strike_vector(90), {0, 1, 0}, 0);
-  check_vec(slice::strike_vector(0), {-1, 0, 0}, 0);     // dips North: strike West
-  check_vec(slice::strike_vector(180), {1, 0, 0}, 0);    // dips South: strike East
-  check_vec(slice::strike_vector(270), {0, -1, 0}, 0);   // dips West: strike South
+  check_vec(slice::strike_vector(0), {-1, 0, 0}, 0);    // dips North: strike West
+  check_vec(slice::strike_vector(180), {1, 0, 0}, 0);   // dips South: strike East
+  check_vec(slice::strike_vector(270), {0, -1, 0}, 0);  // dips West: strike South
   check_vec(slice::dip_vector(30, 90), {std::sqrt(3.0) / 2, 0, -0.5}, 1e-15);
   check_vec(slice::dip_vector(90, 180), {0, 0, -1}, 1e-15);
   for (double d : {0.0, 8.0, 45.0, 85.0, 90.0})

@@ -21,7 +21,9 @@ TEST_CASE("a box is bounded, has an interior and the right volume", "[polytope]"
 }
 
 TEST_CASE("a tetrahedron has volume 1/6", "[polytope]") {
-  std::vector<Plane> p = {{-Vec3::UnitX(), 0}, {-Vec3::UnitY(), 0}, {-Vec3::UnitZ(), 0},
+  std::vector<Plane> p = {{-Vec3::UnitX(), 0},
+                          {-Vec3::UnitY(), 0},
+                          {-Vec3::UnitZ(), 0},
                           {Vec3(1, 1, 1).normalized(), 1 / std::sqrt(3.0)}};
   const auto info = slice::analyse_polytope(p, 1e-12);
   CHECK(info.bounded);
@@ -30,12 +32,12 @@ TEST_CASE("a tetrahedron has volume 1/6", "[polytope]") {
   CHECK_THAT(info.volume, WithinRel(1.0 / 6.0, 1e-12));
 }
 
-TEST_CASE("an octahedron's vertices are found once although four planes meet there",
-          "[polytope]") {
+TEST_CASE("an octahedron's vertices are found once although four planes meet there", "[polytope]") {
   std::vector<Plane> p;
   for (double sx : {-1.0, 1.0})
     for (double sy : {-1.0, 1.0})
-      for (double sz : {-1.0, 1.0}) p.push_back({Vec3(sx, sy, sz).normalized(), 1 / std::sqrt(3.0)});
+      for (double sz : {-1.0, 1.0})
+        p.push_back({Vec3(sx, sy, sz).normalized(), 1 / std::sqrt(3.0)});
   const auto info = slice::analyse_polytope(p, 1e-12);
   CHECK(info.vertices.size() == 6);
   CHECK_THAT(info.volume, WithinRel(4.0 / 3.0, 1e-12));

@@ -20,8 +20,8 @@ void ProgressBar::update(std::string_view stage, std::size_t done, std::size_t t
   const int filled = int(frac * kWidth);
   std::string bar(std::size_t(filled), '#');
   bar.resize(kWidth, ' ');
-  std::fprintf(stderr, "\r[%s] %3d%% %.*s %zu/%zu", bar.c_str(), int(frac * 100),
-               int(stage.size()), stage.data(), done, total);
+  std::fprintf(stderr, "\r[%s] %3d%% %.*s %zu/%zu", bar.c_str(), int(frac * 100), int(stage.size()),
+               stage.data(), done, total);
   std::fflush(stderr);
   drawn_ = true;
 }

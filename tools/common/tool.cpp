@@ -64,8 +64,7 @@ void check_output_differs(const std::string& input, const std::string& output) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::exists(output, ec) && fs::equivalent(input, output, ec))
-    throw slice::Error(output, "the output would overwrite the input",
-                       "give a different -o path");
+    throw slice::Error(output, "the output would overwrite the input", "give a different -o path");
 }
 
 }  // namespace tool

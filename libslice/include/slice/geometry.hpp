@@ -35,10 +35,10 @@ enum BlockFlag : std::uint8_t { kBoundary = 1u << 0, kRemoved = 1u << 1 };
 struct Block {
   Vec3 origin = Vec3::Zero();  // local origin of the faces (its Chebyshev centre once known)
   std::vector<Face> faces;
-  double inradius = 0;                        // Chebyshev radius; 0 = not computed
+  double inradius = 0;                                // Chebyshev radius; 0 = not computed
   Eigen::Vector4d bsphere = Eigen::Vector4d::Zero();  // bounding sphere: centre (global), radius
-  std::uint8_t flags = 0;                     // BlockFlag bits
-  std::int64_t cluster = -1;                  // cluster id; -1 = none
+  std::uint8_t flags = 0;                             // BlockFlag bits
+  std::int64_t cluster = -1;                          // cluster id; -1 = none
 };
 
 }  // namespace slice

@@ -32,8 +32,12 @@ Vec3 dip_vector(double dip_deg, double dip_direction_deg);
 /// counter-clockwise in (u, v) is counter-clockwise seen from above.
 struct PlaneFrame {
   Vec3 u, v, n;
-  Vec3 to_global(const Vec3& origin, const Vec2& uv) const { return origin + uv.x() * u + uv.y() * v; }
-  Vec2 to_uv(const Vec3& origin, const Vec3& x) const { return {u.dot(x - origin), v.dot(x - origin)}; }
+  Vec3 to_global(const Vec3& origin, const Vec2& uv) const {
+    return origin + uv.x() * u + uv.y() * v;
+  }
+  Vec2 to_uv(const Vec3& origin, const Vec3& x) const {
+    return {u.dot(x - origin), v.dot(x - origin)};
+  }
 };
 PlaneFrame plane_frame(double dip_deg, double dip_direction_deg);
 

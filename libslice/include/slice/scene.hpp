@@ -18,12 +18,12 @@ const char* to_string(JointOrder o);
 
 /// One joint: a plane, optionally bounded by a convex polygon.
 struct Joint {
-  Plane plane;                    // upward unit normal, global frame: normal . x = d
-  Vec3 centre = Vec3::Zero();     // a point on the plane, origin of polygon_uv (global)
-  double dip_deg = 0;             // [0, 90]
-  double dip_direction_deg = 0;   // [0, 360)
+  Plane plane;                   // upward unit normal, global frame: normal . x = d
+  Vec3 centre = Vec3::Zero();    // a point on the plane, origin of polygon_uv (global)
+  double dip_deg = 0;            // [0, 90]
+  double dip_direction_deg = 0;  // [0, 360)
   JointKind kind = JointKind::rock;
-  std::int32_t set = -1;          // index into JointSystem::sets; -1 = a [[joints]] entry
+  std::int32_t set = -1;  // index into JointSystem::sets; -1 = a [[joints]] entry
   double friction_angle_deg = 30;
   double cohesion = 0;            // Pa
   std::int8_t boundary_side = 0;  // boundary joints: +1 keep blocks above (the side the normal
