@@ -1,0 +1,470 @@
+#include "h5.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <system_error>
+#include <type_traits>
+
+#include "slice/error.hpp"
+
+namespace slice::h5 {
+
+static_assert(std::is_same_v<Id, hid_t>, "h5::Id must be HDF5's hid_t");
+
+namespace {
+
+// --- errors ----------------------------------------------------------------------------------
+
+// HDF5's own printing goes to stderr, which the library never writes to. Idempotent.
+void silence() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+
+herr_t collect(unsigned /*n*/, const H5E_error2_t* e, void* data) {
+  auto& descs = *static_cast<std::vector<std::string>*>(data);
+  if (e != nullptr && e->desc != nullptr && e->desc[0] != '\0') descs.emplace_back(e->desc);
+  return 0;
+}
+
+// The outermost and innermost descriptions on HDF5's error stack, e.g. " (HDF5: unable to open
+// file: file signature not found)"; empty if the stack is empty. Clears the stack.
+std::string reason() {
+  std::vector<std::string> descs;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, collect, &descs);
+  H5Eclear2(H5E_DEFAULT);
+  if (descs.empty()) return {};
+  std::string r = descs.front();
+  if (descs.size() > 1 && descs.back() != descs.front()) r += ": " + descs.back();
+  return " (HDF5: " + r + ")";
+}
+
+[[noreturn]] void fail(const Context& ctx, const std::string& what) {
+  throw Error(ctx.file, what, ctx.fix);
+}
+
+// A failed HDF5 call: the message carries HDF5's reason.
+[[noreturn]] void fail_h5(const Context& ctx, const std::string& what) {
+  throw Error(ctx.file, what + reason(), ctx.fix);
+}
+
+// Checks the result of an H5* call: ids and herr_t/htri_t are negative on failure.
+template <class R>
+R check(R r, const Context& ctx, const std::string& what) {
+  if (r < 0) fail_h5(ctx, what);
+  return r;
+}
+
+Handle own(hid_t id, Handle::Type type, const Context& ctx, const std::string& what) {
+  return Handle(check(id, ctx, what), type);
+}
+
+// --- types -----------------------------------------------------------------------------------
+
+// On-disk (little-endian, fixed width) and in-memory types of each element type.
+template <class T>
+struct Traits;
+template <>
+struct Traits<double> {
+  static hid_t file() { return H5T_IEEE_F64LE; }
+  static hid_t mem() { return H5T_NATIVE_DOUBLE; }
+};
+template <>
+struct Traits<std::int64_t> {
+  static hid_t file() { return H5T_STD_I64LE; }
+  static hid_t mem() { return H5T_NATIVE_INT64; }
+};
+template <>
+struct Traits<std::uint64_t> {
+  static hid_t file() { return H5T_STD_U64LE; }
+  static hid_t mem() { return H5T_NATIVE_UINT64; }
+};
+template <>
+struct Traits<std::int32_t> {
+  static hid_t file() { return H5T_STD_I32LE; }
+  static hid_t mem() { return H5T_NATIVE_INT32; }
+};
+template <>
+struct Traits<std::uint8_t> {
+  static hid_t file() { return H5T_STD_U8LE; }
+  static hid_t mem() { return H5T_NATIVE_UINT8; }
+};
+template <>
+struct Traits<std::int8_t> {
+  static hid_t file() { return H5T_STD_I8LE; }
+  static hid_t mem() { return H5T_NATIVE_INT8; }
+};
+
+template <class T>
+std::string expected_type() {
+  if constexpr (std::is_same_v<T, std::string>) {
+    return "a string";
+  } else if constexpr (std::is_floating_point_v<T>) {
+    return "floats";
+  } else {
+    return std::string(std::is_signed_v<T> ? "signed " : "unsigned ") +
+           std::to_string(8 * sizeof(T)) + "-bit integers";
+  }
+}
+
+// "unsigned 8-bit integers", "64-bit floats", "strings", ...
+std::string describe(hid_t type) {
+  const std::string bits = std::to_string(8 * H5Tget_size(type)) + "-bit ";
+  switch (H5Tget_class(type)) {
+    case H5T_INTEGER:
+      return (H5Tget_sign(type) == H5T_SGN_2 ? "signed " : "unsigned ") + bits + "integers";
+    case H5T_FLOAT:
+      return bits + "floats";
+    case H5T_STRING:
+      return "strings";
+    case H5T_COMPOUND:
+      return "compound values";
+    case H5T_ENUM:
+      return "enumeration values";
+    default:
+      return "values of an unexpected type";
+  }
+}
+
+// Whether a stored type converts to T without loss: any float for double; for integers, the
+// stored range must fit in T (HDF5 would otherwise clip silently).
+template <class T>
+bool converts(hid_t type) {
+  const H5T_class_t c = H5Tget_class(type);
+  if constexpr (std::is_same_v<T, std::string>) {
+    return c == H5T_STRING;
+  } else if constexpr (std::is_floating_point_v<T>) {
+    return c == H5T_FLOAT;
+  } else {
+    if (c != H5T_INTEGER) return false;
+    const std::size_t size = H5Tget_size(type);
+    const bool is_signed = H5Tget_sign(type) == H5T_SGN_2;
+    if (is_signed == std::is_signed_v<T>) return size <= sizeof(T);
+    return !is_signed && size < sizeof(T);
+  }
+}
+
+// A fixed-length, null-terminated UTF-8 string type holding `chars` characters.
+Handle string_type(std::size_t chars, const Context& ctx) {
+  Handle t = own(H5Tcopy(H5T_C_S1), Handle::Type::datatype, ctx, "cannot make a string type");
+  check(H5Tset_size(t.id(), chars + 1), ctx, "cannot size a string type");
+  check(H5Tset_strpad(t.id(), H5T_STR_NULLTERM), ctx, "cannot make a string type");
+  check(H5Tset_cset(t.id(), H5T_CSET_UTF8), ctx, "cannot make a string type");
+  return t;
+}
+
+std::string shape_string(int rank, const hsize_t* dims) {
+  std::string s = "(";
+  for (int i = 0; i < rank; ++i) s += (i ? ", " : "") + std::to_string(dims[i]);
+  return s + ")";
+}
+
+}  // namespace
+
+// --- Handle ----------------------------------------------------------------------------------
+
+Handle& Handle::operator=(Handle&& o) noexcept {
+  if (this != &o) {
+    reset();
+    id_ = o.id_;
+    type_ = o.type_;
+    o.id_ = -1;
+  }
+  return *this;
+}
+
+bool Handle::reset() noexcept {
+  if (id_ < 0) return true;
+  herr_t r = -1;
+  switch (type_) {
+    case Type::file:
+      r = H5Fclose(id_);
+      break;
+    case Type::group:
+      r = H5Gclose(id_);
+      break;
+    case Type::dataset:
+      r = H5Dclose(id_);
+      break;
+    case Type::dataspace:
+      r = H5Sclose(id_);
+      break;
+    case Type::attribute:
+      r = H5Aclose(id_);
+      break;
+    case Type::datatype:
+      r = H5Tclose(id_);
+      break;
+    case Type::plist:
+      r = H5Pclose(id_);
+      break;
+  }
+  id_ = -1;
+  return r >= 0;
+}
+
+// --- Group -----------------------------------------------------------------------------------
+
+std::string Group::member_path(const std::string& name) const {
+  return path_ == "/" ? "/" + name : path_ + "/" + name;
+}
+
+std::string Group::attribute_label(const std::string& name) const {
+  return path_ == "/" ? "root attribute " + name : path_ + " attribute " + name;
+}
+
+void Group::fail(const std::string& what) const { h5::fail(ctx_, what); }
+
+Group Group::create_group(const std::string& name) const {
+  const std::string p = member_path(name);
+  Handle gcpl = own(H5Pcreate(H5P_GROUP_CREATE), Handle::Type::plist, ctx_, "cannot create " + p);
+  check(H5Pset_obj_track_times(gcpl.id(), false), ctx_, "cannot create " + p);
+  Handle g = own(H5Gcreate2(handle_.id(), name.c_str(), H5P_DEFAULT, gcpl.id(), H5P_DEFAULT),
+                 Handle::Type::group, ctx_, "cannot create group " + p);
+  return Group(std::move(g), p, ctx_);
+}
+
+Group Group::open_group(const std::string& name) const {
+  const std::string p = member_path(name);
+  if (!exists(name)) fail("missing group " + p);
+  Handle g = own(H5Gopen2(handle_.id(), name.c_str(), H5P_DEFAULT), Handle::Type::group, ctx_,
+                 "cannot open " + p + " as a group");
+  return Group(std::move(g), p, ctx_);
+}
+
+bool Group::exists(const std::string& name) const {
+  return check(H5Lexists(handle_.id(), name.c_str(), H5P_DEFAULT), ctx_,
+               "cannot look up " + member_path(name)) > 0;
+}
+
+bool Group::has_attribute(const std::string& name) const {
+  return check(H5Aexists(handle_.id(), name.c_str()), ctx_,
+               "cannot look up " + attribute_label(name)) > 0;
+}
+
+std::size_t Group::member_count() const {
+  H5G_info_t info;
+  check(H5Gget_info(handle_.id(), &info), ctx_, "cannot list " + path_);
+  return std::size_t(info.nlinks);
+}
+
+void Group::remove(const std::string& name) const {
+  check(H5Ldelete(handle_.id(), name.c_str(), H5P_DEFAULT), ctx_,
+        "cannot remove " + member_path(name));
+}
+
+void Group::remove_attribute(const std::string& name) const {
+  check(H5Adelete(handle_.id(), name.c_str()), ctx_, "cannot remove " + attribute_label(name));
+}
+
+namespace {
+
+template <class T>
+void write_dataset(hid_t loc, const std::string& name, const std::string& p,
+                   std::span<const T> data, int rank, std::size_t cols, const Context& ctx) {
+  SLICE_ASSERT(rank == 1 || (cols > 0 && data.size() % cols == 0));
+  const hsize_t dims[2] = {rank == 1 ? data.size() : data.size() / cols, cols};
+  Handle space = own(H5Screate_simple(rank, dims, nullptr), Handle::Type::dataspace, ctx,
+                     "cannot create the dataspace of " + p);
+  Handle dcpl = own(H5Pcreate(H5P_DATASET_CREATE), Handle::Type::plist, ctx, "cannot create " + p);
+  check(H5Pset_obj_track_times(dcpl.id(), false), ctx, "cannot create " + p);
+  // Every element is written below: no fill pass.
+  check(H5Pset_fill_time(dcpl.id(), H5D_FILL_TIME_NEVER), ctx, "cannot create " + p);
+  Handle ds = own(H5Dcreate2(loc, name.c_str(), Traits<T>::file(), space.id(), H5P_DEFAULT,
+                             dcpl.id(), H5P_DEFAULT),
+                  Handle::Type::dataset, ctx, "cannot create dataset " + p);
+  if (!data.empty())
+    check(H5Dwrite(ds.id(), Traits<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), ctx,
+          "cannot write " + p);
+  if (!ds.reset()) fail_h5(ctx, "cannot write " + p);
+}
+
+template <class T>
+std::vector<T> read_dataset(const Group& g, hid_t loc, const std::string& name, int rank,
+                            std::size_t cols) {
+  const Context& ctx = g.context();
+  const std::string p = g.member_path(name);
+  if (!g.exists(name)) fail(ctx, "missing dataset " + p);
+  Handle ds = own(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), Handle::Type::dataset, ctx,
+                  "cannot open " + p + " as a dataset");
+  Handle type = own(H5Dget_type(ds.id()), Handle::Type::datatype, ctx, "cannot read " + p);
+  if (!converts<T>(type.id()))
+    fail(ctx, p + " holds " + describe(type.id()) + "; expected " + expected_type<T>());
+  Handle space = own(H5Dget_space(ds.id()), Handle::Type::dataspace, ctx, "cannot read " + p);
+  const int nd = check(H5Sget_simple_extent_ndims(space.id()), ctx, "cannot read " + p);
+  hsize_t dims[H5S_MAX_RANK] = {};
+  check(H5Sget_simple_extent_dims(space.id(), dims, nullptr), ctx, "cannot read " + p);
+  if (nd != rank || (rank == 2 && dims[1] != cols))
+    fail(ctx, p + " has shape " + shape_string(nd, dims) + "; expected " +
+                  (rank == 1 ? std::string("(n)") : "(n, " + std::to_string(cols) + ")"));
+  std::vector<T> v(rank == 1 ? dims[0] : dims[0] * dims[1]);
+  if (!v.empty())
+    check(H5Dread(ds.id(), Traits<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), ctx,
+          "cannot read " + p);
+  return v;
+}
+
+}  // namespace
+
+template <class T>
+void Group::write(const std::string& name, std::span<const T> data) const {
+  write_dataset<T>(handle_.id(), name, member_path(name), data, 1, 0, ctx_);
+}
+
+template <class T>
+void Group::write(const std::string& name, std::span<const T> data, std::size_t cols) const {
+  write_dataset<T>(handle_.id(), name, member_path(name), data, 2, cols, ctx_);
+}
+
+template <class T>
+std::vector<T> Group::read(const std::string& name) const {
+  return read_dataset<T>(*this, handle_.id(), name, 1, 0);
+}
+
+template <class T>
+std::vector<T> Group::read(const std::string& name, std::size_t cols) const {
+  return read_dataset<T>(*this, handle_.id(), name, 2, cols);
+}
+
+template <class T>
+void Group::write_attribute(const std::string& name, const T& value) const {
+  const std::string label = attribute_label(name);
+  const std::string what = "cannot write " + label;
+  Handle space = own(H5Screate(H5S_SCALAR), Handle::Type::dataspace, ctx_, what);
+  if constexpr (std::is_same_v<T, std::string>) {
+    if (value.find('\0') != std::string::npos)
+      fail(label + " contains a NUL character, which HDF5 strings cannot hold");
+    Handle type = string_type(value.size(), ctx_);
+    Handle a =
+        own(H5Acreate2(handle_.id(), name.c_str(), type.id(), space.id(), H5P_DEFAULT, H5P_DEFAULT),
+            Handle::Type::attribute, ctx_, what);
+    check(H5Awrite(a.id(), type.id(), value.c_str()), ctx_, what);
+    if (!a.reset()) fail_h5(ctx_, what);
+  } else {
+    Handle a = own(H5Acreate2(handle_.id(), name.c_str(), Traits<T>::file(), space.id(),
+                              H5P_DEFAULT, H5P_DEFAULT),
+                   Handle::Type::attribute, ctx_, what);
+    check(H5Awrite(a.id(), Traits<T>::mem(), &value), ctx_, what);
+    if (!a.reset()) fail_h5(ctx_, what);
+  }
+}
+
+template <class T>
+T Group::read_attribute(const std::string& name) const {
+  const std::string label = attribute_label(name);
+  const std::string what = "cannot read " + label;
+  if (!has_attribute(name)) fail("missing " + label);
+  Handle a =
+      own(H5Aopen(handle_.id(), name.c_str(), H5P_DEFAULT), Handle::Type::attribute, ctx_, what);
+  Handle type = own(H5Aget_type(a.id()), Handle::Type::datatype, ctx_, what);
+  if (!converts<T>(type.id()))
+    fail(label + " holds " + describe(type.id()) + "; expected " + expected_type<T>());
+  Handle space = own(H5Aget_space(a.id()), Handle::Type::dataspace, ctx_, what);
+  const hssize_t points = check(H5Sget_simple_extent_npoints(space.id()), ctx_, what);
+  if (points != 1) fail(label + " holds " + std::to_string(points) + " values; expected one");
+  T value{};
+  if constexpr (std::is_same_v<T, std::string>) {
+    // One string layout, the one we write (h5.hpp): h5py's variable-length strings are refused.
+    if (check(H5Tis_variable_str(type.id()), ctx_, what) > 0)
+      fail(label + " is a variable-length string; expected a fixed-length string");
+    // Read as null-terminated whatever the stored padding; HDF5 converts.
+    const std::size_t n = H5Tget_size(type.id());
+    if (n == 0) fail_h5(ctx_, what);
+    Handle mem = string_type(n, ctx_);
+    check(H5Tset_cset(mem.id(), H5Tget_cset(type.id())), ctx_, what);
+    std::string buf(n + 1, '\0');
+    check(H5Aread(a.id(), mem.id(), buf.data()), ctx_, what);
+    value = buf.substr(0, buf.find('\0'));
+  } else {
+    check(H5Aread(a.id(), Traits<T>::mem(), &value), ctx_, what);
+  }
+  return value;
+}
+
+#define SLICE_H5_DATASET(T)                                                                 \
+  template void Group::write<T>(const std::string&, std::span<const T>) const;              \
+  template void Group::write<T>(const std::string&, std::span<const T>, std::size_t) const; \
+  template std::vector<T> Group::read<T>(const std::string&) const;                         \
+  template std::vector<T> Group::read<T>(const std::string&, std::size_t) const;
+SLICE_H5_DATASET(double)
+SLICE_H5_DATASET(std::int64_t)
+SLICE_H5_DATASET(std::int32_t)
+SLICE_H5_DATASET(std::uint8_t)
+SLICE_H5_DATASET(std::int8_t)
+#undef SLICE_H5_DATASET
+
+#define SLICE_H5_ATTRIBUTE(T)                                                  \
+  template void Group::write_attribute<T>(const std::string&, const T&) const; \
+  template T Group::read_attribute<T>(const std::string&) const;
+SLICE_H5_ATTRIBUTE(std::string)
+SLICE_H5_ATTRIBUTE(std::int64_t)
+SLICE_H5_ATTRIBUTE(std::uint64_t)
+SLICE_H5_ATTRIBUTE(double)
+#undef SLICE_H5_ATTRIBUTE
+
+// --- File ------------------------------------------------------------------------------------
+
+File File::create(const fs::path& path, Context ctx) {
+  silence();
+  const std::string what = "cannot create the file " + path.string();
+  // The root group is made with the file: no time stamps there either.
+  Handle fcpl = own(H5Pcreate(H5P_FILE_CREATE), Handle::Type::plist, ctx, what);
+  check(H5Pset_obj_track_times(fcpl.id(), false), ctx, what);
+  Handle f = own(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.id(), H5P_DEFAULT), Handle::Type::file,
+                 ctx, what);
+  Handle root = own(H5Gopen2(f.id(), "/", H5P_DEFAULT), Handle::Type::group, ctx, what);
+  return File(std::move(f), Group(std::move(root), "/", std::move(ctx)));
+}
+
+File File::open(const fs::path& path, Context ctx, bool writable) {
+  silence();
+  std::error_code ec;
+  const auto status = fs::status(path, ec);
+  if (!fs::exists(status)) throw Error(ctx.file, "no such file", "check the path");
+  if (fs::is_directory(status))
+    throw Error(ctx.file, "is a directory, not a file", "check the path");
+  const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
+  if (is_hdf5 < 0) fail_h5(ctx, "cannot read the file");
+  if (is_hdf5 == 0)
+    throw Error(ctx.file, "not an HDF5 file", "give a .h5 file written by a rockslice tool");
+  Handle f = own(H5Fopen(path.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, H5P_DEFAULT),
+                 Handle::Type::file, ctx, "cannot open the file");
+  Handle root = own(H5Gopen2(f.id(), "/", H5P_DEFAULT), Handle::Type::group, ctx,
+                    "cannot open the root group");
+  return File(std::move(f), Group(std::move(root), "/", std::move(ctx)));
+}
+
+void File::close() {
+  const Context ctx = root_.ctx_;
+  root_.handle_.reset();
+  if (!file_.reset()) fail_h5(ctx, "cannot close the file (flushing its content failed)");
+}
+
+// --- PartialFile -----------------------------------------------------------------------------
+
+PartialFile::PartialFile(fs::path out)
+    : out_(std::move(out)), partial_(out_.string() + ".partial") {
+  const fs::path dir = out_.has_parent_path() ? out_.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw Error(out_.string(), "the directory " + dir.string() + " does not exist",
+                "create it or choose another output path");
+}
+
+PartialFile::~PartialFile() {
+  if (committed_) return;
+  // Only ever a regular file of ours: never a directory someone put there.
+  std::error_code ec;
+  if (fs::is_regular_file(fs::symlink_status(partial_, ec))) fs::remove(partial_, ec);
+}
+
+void PartialFile::commit() {
+  std::error_code ec;
+  fs::rename(partial_, out_, ec);
+  if (ec)
+    throw Error(out_.string(),
+                "cannot replace it with the finished " + partial_.filename().string() + " (" +
+                    ec.message() + ")",
+                "check that it is not a directory and that its directory is writable");
+  committed_ = true;
+}
+
+}  // namespace slice::h5

@@ -1,0 +1,152 @@
+#pragma once
+// A thin RAII wrapper over the HDF5 C API (1.10): the only code in rockslice that calls H5*.
+// Every identifier is owned by a Handle and closed on destruction; every call is checked and a
+// failure becomes slice::Error("<file>", "<what> (HDF5: <reason>)", "<fix>"). HDF5's own error
+// printing is switched off. This header does not include <hdf5.h>, so code using the wrapper
+// (h5io.cpp, tests that craft bad files) needs no HDF5 include path.
+//
+// Files are reproducible: no time stamps (obj_track_times off on every group and dataset),
+// contiguous storage, no filters, the library's default format bounds. On disk, floats are
+// IEEE little-endian 64-bit, integers little-endian of the C++ type's width, strings fixed-length
+// null-terminated UTF-8.
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace slice::h5 {
+
+namespace fs = std::filesystem;
+
+/// hid_t of HDF5 1.10 (h5.cpp checks they agree).
+using Id = std::int64_t;
+
+/// Which file a handle belongs to and what to tell the user when something fails.
+struct Context {
+  std::string file;  // the name in messages (the user's output path, not the .partial)
+  std::string fix;   // the fix in messages
+};
+
+/// Owns one HDF5 identifier and closes it with the matching H5*close.
+class Handle {
+ public:
+  enum class Type { file, group, dataset, dataspace, attribute, datatype, plist };
+  Handle() = default;
+  Handle(Id id, Type type) : id_(id), type_(type) {}
+  ~Handle() { reset(); }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& o) noexcept : id_(o.id_), type_(o.type_) { o.id_ = -1; }
+  Handle& operator=(Handle&& o) noexcept;
+  Id id() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+  /// Closes now; returns false if HDF5 reported an error.
+  bool reset() noexcept;
+
+ private:
+  Id id_ = -1;
+  Type type_ = Type::file;
+};
+
+/// A group (or the root group of a file). Member names are relative ("normal"); messages use
+/// full paths ("/joints/normal").
+class Group {
+ public:
+  const std::string& path() const { return path_; }
+  /// Full path of a member, e.g. "/joints/normal".
+  std::string member_path(const std::string& name) const;
+  const Context& context() const { return ctx_; }
+
+  Group create_group(const std::string& name) const;
+  /// Throws Error ("missing group /sets/003") if there is no such group.
+  Group open_group(const std::string& name) const;
+  bool exists(const std::string& name) const;
+  bool has_attribute(const std::string& name) const;
+  /// Number of links (groups and datasets) in this group.
+  std::size_t member_count() const;
+  /// Unlinks a member (tests use it to craft bad files).
+  void remove(const std::string& name) const;
+  void remove_attribute(const std::string& name) const;
+
+  /// Writes a 1-D dataset (n) of T. T: double, int64, int32, uint8, int8.
+  template <class T>
+  void write(const std::string& name, std::span<const T> data) const;
+  /// Writes a 2-D dataset (data.size() / cols, cols), row-major. An empty span gives (0, cols).
+  template <class T>
+  void write(const std::string& name, std::span<const T> data, std::size_t cols) const;
+  /// Reads a 1-D dataset, checking that it exists, has rank 1 and a type that converts to T
+  /// without loss (float for double, an integer that fits for integers).
+  template <class T>
+  std::vector<T> read(const std::string& name) const;
+  /// Reads a 2-D dataset that must have `cols` columns; rows = size() / cols.
+  template <class T>
+  std::vector<T> read(const std::string& name, std::size_t cols) const;
+
+  /// Scalar attributes. T: std::string, std::int64_t, std::uint64_t, double. Writing an
+  /// attribute that exists is an error (remove it first); a string must not contain '\0'.
+  template <class T>
+  void write_attribute(const std::string& name, const T& value) const;
+  /// Reads a scalar attribute, checking that it exists and has a matching type class (string,
+  /// integer that fits, float). Strings must be fixed-length.
+  template <class T>
+  T read_attribute(const std::string& name) const;
+
+  /// "root attribute kind" or "/options attribute order", for messages.
+  std::string attribute_label(const std::string& name) const;
+
+ private:
+  friend class File;
+  Group(Handle h, std::string path, Context ctx)
+      : handle_(std::move(h)), path_(std::move(path)), ctx_(std::move(ctx)) {}
+  [[noreturn]] void fail(const std::string& what) const;
+  Handle handle_;
+  std::string path_;
+  Context ctx_;
+};
+
+/// An open HDF5 file. Closing it explicitly (close()) reports errors of the final flush; the
+/// destructor closes silently.
+class File {
+ public:
+  /// Creates (truncates) `path`; messages name `ctx.file`.
+  static File create(const fs::path& path, Context ctx);
+  /// Opens an existing file read-only (or read-write, for tests that craft bad files). Throws
+  /// Error if it does not exist or is not an HDF5 file.
+  static File open(const fs::path& path, Context ctx, bool writable = false);
+
+  const Group& root() const { return root_; }
+  /// Closes the file, throwing Error if HDF5 fails to flush or close it.
+  void close();
+
+ private:
+  File(Handle file, Group root) : file_(std::move(file)), root_(std::move(root)) {}
+  Handle file_;
+  Group root_;  // closed before file_ (members are destroyed in reverse order)
+};
+
+/// Atomic output: the file is written to "<out>.partial" in the same directory and renamed
+/// onto `out` by commit(). If commit() is never reached (an exception), the destructor removes
+/// the .partial, so an existing `out` is left untouched and no half-written file remains.
+class PartialFile {
+ public:
+  /// Throws Error if the directory of `out` does not exist.
+  explicit PartialFile(fs::path out);
+  ~PartialFile();
+  PartialFile(const PartialFile&) = delete;
+  PartialFile& operator=(const PartialFile&) = delete;
+
+  const fs::path& path() const { return partial_; }
+  const fs::path& target() const { return out_; }
+  /// Renames the .partial onto `out` (atomic on POSIX). Throws Error on failure.
+  void commit();
+
+ private:
+  fs::path out_;
+  fs::path partial_;
+  bool committed_ = false;
+};
+
+}  // namespace slice::h5

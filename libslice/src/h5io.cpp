@@ -1,0 +1,650 @@
+#include "slice/h5io.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "h5/h5.hpp"
+#include "slice/error.hpp"
+
+namespace slice {
+namespace {
+
+namespace fs = std::filesystem;
+using h5::Group;
+
+// A normal is a unit vector if ||n| - 1| <= this. Normalising in double leaves ~1e-16; 1e-9
+// rejects a vector nobody normalised without rejecting rounding. Dimensionless.
+constexpr double kUnitTolerance = 1e-9;
+
+// The fix of a refused write: validation runs before the .partial is even created.
+constexpr const char* kNotWritten = "nothing was written";
+constexpr const char* kWriteFix =
+    "check that the directory is writable and the disk is not full; nothing was written";
+constexpr const char* kJointsFix = "regenerate it with slice-joints";
+constexpr const char* kBlocksFix = "regenerate it with slice-cut";
+
+// Names stored in the files. Private mappings: scene.cpp owns slice::to_string(JointKind) and
+// slice::to_string(JointOrder); these must spell the same (DESIGN section 6).
+constexpr std::array<const char*, 3> kJointKindNames{"rock", "construction", "boundary"};
+constexpr std::array<const char*, 4> kOrderNames{"as-given", "largest-first", "by-set",
+                                                 "alternating"};
+
+const char* kind_name(JointKind k) {
+  const auto i = static_cast<std::size_t>(k);
+  return i < kJointKindNames.size() ? kJointKindNames[i] : "invalid";
+}
+
+std::optional<JointKind> parse_kind(const std::string& s) {
+  for (std::size_t i = 0; i < kJointKindNames.size(); ++i)
+    if (s == kJointKindNames[i]) return static_cast<JointKind>(i);
+  return std::nullopt;
+}
+
+const char* order_name(JointOrder o) {
+  const auto i = static_cast<std::size_t>(o);
+  return i < kOrderNames.size() ? kOrderNames[i] : "invalid";
+}
+
+std::optional<JointOrder> parse_order(const std::string& s) {
+  for (std::size_t i = 0; i < kOrderNames.size(); ++i)
+    if (s == kOrderNames[i]) return static_cast<JointOrder>(i);
+  return std::nullopt;
+}
+
+// Shortest text that reads back as the same double ("nan", "inf", "0.1").
+std::string num(double v) {
+  std::array<char, 32> buf{};
+  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
+  return std::string(buf.data(), r.ptr);
+}
+
+std::string row_text(const double* v, std::size_t n) {
+  std::string s = "(";
+  for (std::size_t i = 0; i < n; ++i) s += (i ? ", " : "") + num(v[i]);
+  return s + ")";
+}
+
+std::string at(const std::string& dataset, std::size_t row) {
+  return dataset + " row " + std::to_string(row);
+}
+
+std::string str(std::int64_t v) { return std::to_string(v); }
+std::string str(std::size_t v) { return std::to_string(v); }
+
+// "000", "001", ...: zero-padded so the groups list in set order.
+std::string set_group_name(std::size_t i) {
+  const std::string s = std::to_string(i);
+  return s.size() < 3 ? std::string(3 - s.size(), '0') + s : s;
+}
+
+// --- validation, shared by writers (before writing) and readers (after reading) --------------
+
+class Checker {
+ public:
+  Checker(std::string where, std::string fix) : where_(std::move(where)), fix_(std::move(fix)) {}
+  [[noreturn]] void fail(const std::string& what) const { throw Error(where_, what, fix_); }
+
+  void finite(double v, const std::string& label) const {
+    if (!std::isfinite(v)) fail(label + " is " + num(v));
+  }
+  template <int N>
+  void finite(const Eigen::Matrix<double, N, 1>& v, const std::string& label) const {
+    if (!v.allFinite()) fail(label + " is " + row_text(v.data(), N));
+  }
+  void unit(const Vec3& n, const std::string& label) const {
+    finite(n, label);
+    if (std::abs(n.norm() - 1) > kUnitTolerance)
+      fail(label + " is " + row_text(n.data(), 3) + ", not a unit vector (length " + num(n.norm()) +
+           ")");
+  }
+  void non_negative(double v, const std::string& label) const {
+    finite(v, label);
+    if (v < 0) fail(label + " is " + num(v) + "; it cannot be negative");
+  }
+  void side(std::int64_t v, const std::string& label) const {
+    if (v < -1 || v > 1) fail(label + " is " + str(v) + "; expected -1, 0 or 1");
+  }
+  void kind(JointKind k, const std::string& label) const {
+    if (static_cast<std::size_t>(k) >= kJointKindNames.size())
+      fail(label + " is " + std::to_string(static_cast<unsigned>(k)) +
+           "; expected 0 (rock), 1 (construction) or 2 (boundary)");
+  }
+
+ private:
+  std::string where_;
+  std::string fix_;
+};
+
+void check_planes(const Checker& c, const std::string& group, const std::vector<Plane>& planes,
+                  std::size_t first_row) {
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    c.unit(planes[i].normal, at(group + "/normal", first_row + i));
+    c.finite(planes[i].d, at(group + "/d", first_row + i));
+  }
+}
+
+void check_joints(const Checker& c, const JointSystem& js) {
+  if (!std::isfinite(js.length_scale) || js.length_scale <= 0)
+    c.fail("/domain attribute length_scale is " + num(js.length_scale) +
+           "; expected a positive length");
+  check_planes(c, "/domain", js.domain.planes, 0);
+
+  const auto sets = static_cast<std::int64_t>(js.sets.size());
+  std::size_t uv_row = 0;
+  for (std::size_t i = 0; i < js.joints.size(); ++i) {
+    const Joint& j = js.joints[i];
+    c.unit(j.plane.normal, at("/joints/normal", i));
+    c.finite(j.plane.d, at("/joints/d", i));
+    c.finite(j.centre, at("/joints/centre", i));
+    c.finite(j.dip_deg, at("/joints/dip", i));
+    c.finite(j.dip_direction_deg, at("/joints/dip_direction", i));
+    c.kind(j.kind, at("/joints/kind", i));
+    if (j.set < -1 || j.set >= sets)
+      c.fail(at("/joints/set", i) + " is " + str(std::int64_t{j.set}) +
+             "; expected -1 (deterministic) or a set index below " + str(sets) +
+             " (the groups of /sets)");
+    c.finite(j.friction_angle_deg, at("/joints/friction_angle", i));
+    c.finite(j.cohesion, at("/joints/cohesion", i));
+    c.side(j.boundary_side, at("/joints/boundary_side", i));
+    if (j.polygon_uv.size() == 1 || j.polygon_uv.size() == 2)
+      c.fail("/joints/polygon_offset gives joint " + str(i) + " a polygon of " +
+             str(j.polygon_uv.size()) + " vertices; expected none (persistent) or at least 3");
+    for (const Vec2& uv : j.polygon_uv) c.finite(uv, at("/joints/polygon_uv", uv_row++));
+  }
+
+  for (std::size_t i = 0; i < js.sets.size(); ++i) {
+    const JointSetSpec& s = js.sets[i];
+    const std::string g = "/sets/" + set_group_name(i) + " attribute ";
+    c.finite(s.dip_deg, g + "dip");
+    c.finite(s.dip_direction_deg, g + "dip_direction");
+    c.finite(s.spacing, g + "spacing");
+    c.finite(s.offset, g + "offset");
+    c.finite(s.friction_angle_deg, g + "friction_angle");
+    c.finite(s.cohesion, g + "cohesion");
+    c.kind(s.kind, g + "kind");
+    c.side(s.boundary_side, g + "boundary_side");
+    if (s.joint_count < 0)
+      c.fail(g + "joint_count is " + str(s.joint_count) + "; it cannot be negative");
+  }
+
+  std::size_t zone_row = 0;
+  for (const Region& z : js.zones) {
+    check_planes(c, "/zones", z.planes, zone_row);
+    zone_row += z.planes.size();
+  }
+
+  if (static_cast<std::size_t>(js.options.order) >= kOrderNames.size())
+    c.fail("/options attribute order is invalid (" +
+           std::to_string(static_cast<int>(js.options.order)) + ")");
+  c.finite(js.options.min_inscribed_diameter, "/options attribute min_inscribed_diameter");
+  c.finite(js.options.max_aspect_ratio, "/options attribute max_aspect_ratio");
+  c.finite(js.options.tolerance, "/options attribute tolerance");
+}
+
+void check_blocks(const Checker& c, const BlockSystem& bs) {
+  check_joints(c, bs.joints);
+  const auto joints = static_cast<std::int64_t>(bs.joints.joints.size());
+  std::size_t face_row = 0;
+  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
+    const Block& blk = bs.blocks[b];
+    c.finite(blk.origin, at("/blocks/origin", b));
+    for (const Face& f : blk.faces) {
+      c.unit(f.normal, at("/blocks/face_normal", face_row));
+      c.finite(f.d, at("/blocks/face_d", face_row));
+      if (f.joint < -1 || f.joint >= joints)
+        c.fail(at("/blocks/face_joint", face_row) + " is " + str(f.joint) +
+               "; expected -1 (domain face) or a joint index below " + str(joints) +
+               " (the rows of /joints/normal)");
+      ++face_row;
+    }
+    c.non_negative(blk.inradius, at("/blocks/inradius", b));
+    c.finite(blk.bsphere, at("/blocks/bsphere", b));
+    c.non_negative(blk.bsphere[3], at("/blocks/bsphere", b) + " radius");
+    if (blk.cluster < -1)
+      c.fail(at("/blocks/cluster", b) + " is " + str(blk.cluster) +
+             "; expected -1 (none) or a cluster id");
+  }
+}
+
+// --- writing ---------------------------------------------------------------------------------
+
+void write_header(const Group& root, FileKind kind, const Provenance& prov, const JointSystem& js) {
+  root.write_attribute<std::string>("schema", kSchemaName);
+  root.write_attribute<std::int64_t>("schema_version", kSchemaVersion);
+  root.write_attribute<std::string>("kind", to_string(kind));
+  root.write_attribute<std::int64_t>("dimension", 3);
+  root.write_attribute("tool", prov.tool);
+  root.write_attribute("tool_version", prov.version);
+  root.write_attribute("command_line", prov.command_line);
+  root.write_attribute("input", prov.input);
+  root.write_attribute("input_sha256", prov.input_sha256);
+  root.write_attribute("name", js.name);
+  root.write_attribute("seed", js.seed);
+}
+
+void write_planes(const Group& g, const std::vector<Plane>& planes) {
+  std::vector<double> normal, d;
+  for (const Plane& p : planes) {
+    normal.insert(normal.end(), p.normal.data(), p.normal.data() + 3);
+    d.push_back(p.d);
+  }
+  g.write<double>("normal", normal, 3);
+  g.write<double>("d", d);
+}
+
+void write_joint_groups(const Group& root, const JointSystem& js) {
+  {
+    const Group g = root.create_group("domain");
+    g.write_attribute("length_scale", js.length_scale);
+    write_planes(g, js.domain.planes);
+  }
+  {
+    const std::size_t n = js.joints.size();
+    std::vector<double> normal, d, centre, dip, dip_direction, friction, cohesion, uv;
+    std::vector<std::uint8_t> kind;
+    std::vector<std::int32_t> set;
+    std::vector<std::int8_t> side;
+    std::vector<std::int64_t> offset{0};
+    for (auto* v : {&d, &dip, &dip_direction, &friction, &cohesion}) v->reserve(n);
+    for (const Joint& j : js.joints) {
+      normal.insert(normal.end(), j.plane.normal.data(), j.plane.normal.data() + 3);
+      d.push_back(j.plane.d);
+      centre.insert(centre.end(), j.centre.data(), j.centre.data() + 3);
+      dip.push_back(j.dip_deg);
+      dip_direction.push_back(j.dip_direction_deg);
+      kind.push_back(static_cast<std::uint8_t>(j.kind));
+      set.push_back(j.set);
+      friction.push_back(j.friction_angle_deg);
+      cohesion.push_back(j.cohesion);
+      side.push_back(j.boundary_side);
+      for (const Vec2& p : j.polygon_uv) uv.insert(uv.end(), p.data(), p.data() + 2);
+      offset.push_back(offset.back() + static_cast<std::int64_t>(j.polygon_uv.size()));
+    }
+    const Group g = root.create_group("joints");
+    g.write<double>("normal", normal, 3);
+    g.write<double>("d", d);
+    g.write<double>("centre", centre, 3);
+    g.write<double>("dip", dip);
+    g.write<double>("dip_direction", dip_direction);
+    g.write<std::uint8_t>("kind", kind);
+    g.write<std::int32_t>("set", set);
+    g.write<double>("friction_angle", friction);
+    g.write<double>("cohesion", cohesion);
+    g.write<std::int8_t>("boundary_side", side);
+    g.write<std::int64_t>("polygon_offset", offset);
+    g.write<double>("polygon_uv", uv, 2);
+  }
+  {
+    const Group g = root.create_group("sets");
+    g.write_attribute("count", static_cast<std::int64_t>(js.sets.size()));
+    for (std::size_t i = 0; i < js.sets.size(); ++i) {
+      const JointSetSpec& s = js.sets[i];
+      const Group sg = g.create_group(set_group_name(i));
+      sg.write_attribute("name", s.name);
+      sg.write_attribute("dip", s.dip_deg);
+      sg.write_attribute("dip_direction", s.dip_direction_deg);
+      sg.write_attribute("spacing", s.spacing);
+      sg.write_attribute("offset", s.offset);
+      sg.write_attribute("friction_angle", s.friction_angle_deg);
+      sg.write_attribute("cohesion", s.cohesion);
+      sg.write_attribute<std::string>("kind", kind_name(s.kind));
+      sg.write_attribute<std::int64_t>("boundary_side", s.boundary_side);
+      sg.write_attribute("joint_count", s.joint_count);
+    }
+  }
+  {
+    std::vector<std::int64_t> offset{0};
+    std::vector<Plane> planes;
+    for (const Region& z : js.zones) {
+      planes.insert(planes.end(), z.planes.begin(), z.planes.end());
+      offset.push_back(static_cast<std::int64_t>(planes.size()));
+    }
+    const Group g = root.create_group("zones");
+    g.write<std::int64_t>("offset", offset);
+    write_planes(g, planes);
+  }
+  {
+    const Group g = root.create_group("options");
+    g.write_attribute<std::string>("order", order_name(js.options.order));
+    g.write_attribute("min_inscribed_diameter", js.options.min_inscribed_diameter);
+    g.write_attribute("max_aspect_ratio", js.options.max_aspect_ratio);
+    g.write_attribute("tolerance", js.options.tolerance);
+  }
+}
+
+void write_blocks_group(const Group& root, const BlockSystem& bs) {
+  std::vector<double> origin, face_normal, face_d, inradius, bsphere;
+  std::vector<std::int64_t> face_offset{0}, face_joint, cluster;
+  std::vector<std::uint8_t> flags;
+  for (const Block& b : bs.blocks) {
+    origin.insert(origin.end(), b.origin.data(), b.origin.data() + 3);
+    for (const Face& f : b.faces) {
+      face_normal.insert(face_normal.end(), f.normal.data(), f.normal.data() + 3);
+      face_d.push_back(f.d);
+      face_joint.push_back(f.joint);
+    }
+    face_offset.push_back(static_cast<std::int64_t>(face_d.size()));
+    inradius.push_back(b.inradius);
+    bsphere.insert(bsphere.end(), b.bsphere.data(), b.bsphere.data() + 4);
+    flags.push_back(b.flags);
+    cluster.push_back(b.cluster);
+  }
+  const Group g = root.create_group("blocks");
+  g.write_attribute<std::int64_t>("pruned", bs.pruned ? 1 : 0);
+  g.write<double>("origin", origin, 3);
+  g.write<std::int64_t>("face_offset", face_offset);
+  g.write<double>("face_normal", face_normal, 3);
+  g.write<double>("face_d", face_d);
+  g.write<std::int64_t>("face_joint", face_joint);
+  g.write<double>("inradius", inradius);
+  g.write<double>("bsphere", bsphere, 4);
+  g.write<std::uint8_t>("flags", flags);
+  g.write<std::int64_t>("cluster", cluster);
+}
+
+// Validates, then writes to "<out>.partial" and renames it onto `out`.
+template <class Body>
+void write_file(const fs::path& out, FileKind kind, const Provenance& prov, const JointSystem& js,
+                const Body& body) {
+  const std::string name = out.string();
+  h5::PartialFile part(out);
+  h5::File f = h5::File::create(part.path(), {name, kWriteFix});
+  write_header(f.root(), kind, prov, js);
+  write_joint_groups(f.root(), js);
+  body(f.root());
+  f.close();
+  part.commit();
+}
+
+// --- reading ---------------------------------------------------------------------------------
+
+[[noreturn]] void fail(const Group& g, const std::string& what) {
+  throw Error(g.context().file, what, g.context().fix);
+}
+
+// A dataset must have `want` rows, as another dataset (`because`) says.
+void expect_rows(const Group& g, const std::string& name, std::size_t got, std::size_t want,
+                 const std::string& because) {
+  if (got != want)
+    fail(g, g.member_path(name) + " has " + str(got) + " rows; expected " + str(want) + " (" +
+                because + ")");
+}
+
+// CSR offsets: n + 1 entries, starting at 0, never decreasing, ending at the flat length.
+void check_offsets(const Group& g, const std::string& name, const std::vector<std::int64_t>& off,
+                   std::size_t n, const std::string& n_what, std::size_t flat,
+                   const std::string& flat_name) {
+  const std::string p = g.member_path(name);
+  if (off.size() != n + 1)
+    fail(g,
+         p + " has " + str(off.size()) + " rows; expected " + str(n + 1) + " (" + n_what + " + 1)");
+  if (off[0] != 0) fail(g, at(p, 0) + " is " + str(off[0]) + "; offsets start at 0");
+  for (std::size_t i = 1; i < off.size(); ++i)
+    if (off[i] < off[i - 1])
+      fail(g, at(p, i) + " is " + str(off[i]) + ", less than row " + str(i - 1) + " (" +
+                  str(off[i - 1]) + "); offsets never decrease");
+  if (off.back() != static_cast<std::int64_t>(flat))
+    fail(g,
+         p + " ends at " + str(off.back()) + " but " + flat_name + " has " + str(flat) + " rows");
+}
+
+Vec3 vec3(const std::vector<double>& v, std::size_t row) {
+  return {v[3 * row], v[3 * row + 1], v[3 * row + 2]};
+}
+
+std::vector<Plane> read_planes(const Group& g, const std::string& count_what) {
+  const auto normal = g.read<double>("normal", 3);
+  const auto d = g.read<double>("d");
+  const std::size_t n = normal.size() / 3;
+  expect_rows(g, "d", d.size(), n, count_what);
+  std::vector<Plane> planes(n);
+  for (std::size_t i = 0; i < n; ++i) planes[i] = {vec3(normal, i), d[i]};
+  return planes;
+}
+
+FileHeader read_root_header(const Group& root) {
+  const std::string& file = root.context().file;
+  if (!root.has_attribute("schema"))
+    throw Error(file, "not a rockslice file (no root attribute schema)",
+                "give a file written by a rockslice tool");
+  FileHeader h;
+  h.schema = root.read_attribute<std::string>("schema");
+  if (h.schema != kSchemaName)
+    throw Error(file, "root attribute schema is \"" + h.schema + "\", not \"" + kSchemaName + "\"",
+                "give a file written by a rockslice tool");
+  const auto version = root.read_attribute<std::int64_t>("schema_version");
+  if (version > kSchemaVersion)
+    throw Error(file,
+                "written by a newer rockslice (root attribute schema_version is " + str(version) +
+                    "; this one reads up to " + std::to_string(kSchemaVersion) + ")",
+                "upgrade rockslice");
+  if (version < 1) fail(root, "root attribute schema_version is " + str(version) + "; expected 1");
+  h.schema_version = static_cast<int>(version);
+  const auto kind = root.read_attribute<std::string>("kind");
+  if (kind == to_string(FileKind::joints))
+    h.kind = FileKind::joints;
+  else if (kind == to_string(FileKind::blocks))
+    h.kind = FileKind::blocks;
+  else
+    fail(root, "root attribute kind is \"" + kind + "\"; expected \"joints\" or \"blocks\"");
+  const auto dimension = root.read_attribute<std::int64_t>("dimension");
+  if (dimension != 3)
+    throw Error(file, "root attribute dimension is " + str(dimension),
+                "this rockslice reads 3-D files only");
+  h.dimension = 3;
+  h.provenance.tool = root.read_attribute<std::string>("tool");
+  h.provenance.version = root.read_attribute<std::string>("tool_version");
+  h.provenance.command_line = root.read_attribute<std::string>("command_line");
+  h.provenance.input = root.read_attribute<std::string>("input");
+  h.provenance.input_sha256 = root.read_attribute<std::string>("input_sha256");
+  return h;
+}
+
+void expect_kind(const Group& root, FileKind want) {
+  const FileHeader h = read_root_header(root);
+  if (h.kind == want) return;
+  const std::string fix = want == FileKind::joints ? "give a joints file (from slice-joints)"
+                                                   : "give a blocks file (from slice-cut)";
+  throw Error(root.context().file,
+              std::string("root attribute kind is \"") + to_string(h.kind) + "\"; expected \"" +
+                  to_string(want) + "\"",
+              fix);
+}
+
+JointSystem read_joint_groups(const Group& root) {
+  JointSystem js;
+  js.name = root.read_attribute<std::string>("name");
+  js.seed = root.read_attribute<std::uint64_t>("seed");
+  {
+    const Group g = root.open_group("domain");
+    js.length_scale = g.read_attribute<double>("length_scale");
+    js.domain.planes = read_planes(g, "the rows of /domain/normal");
+  }
+  {
+    const Group g = root.open_group("joints");
+    const auto normal = g.read<double>("normal", 3);
+    const std::size_t n = normal.size() / 3;
+    const std::string because = "the rows of /joints/normal";
+    const auto d = g.read<double>("d");
+    expect_rows(g, "d", d.size(), n, because);
+    const auto centre = g.read<double>("centre", 3);
+    expect_rows(g, "centre", centre.size() / 3, n, because);
+    const auto dip = g.read<double>("dip");
+    expect_rows(g, "dip", dip.size(), n, because);
+    const auto dip_direction = g.read<double>("dip_direction");
+    expect_rows(g, "dip_direction", dip_direction.size(), n, because);
+    const auto kind = g.read<std::uint8_t>("kind");
+    expect_rows(g, "kind", kind.size(), n, because);
+    const auto set = g.read<std::int32_t>("set");
+    expect_rows(g, "set", set.size(), n, because);
+    const auto friction = g.read<double>("friction_angle");
+    expect_rows(g, "friction_angle", friction.size(), n, because);
+    const auto cohesion = g.read<double>("cohesion");
+    expect_rows(g, "cohesion", cohesion.size(), n, because);
+    const auto side = g.read<std::int8_t>("boundary_side");
+    expect_rows(g, "boundary_side", side.size(), n, because);
+    const auto offset = g.read<std::int64_t>("polygon_offset");
+    const auto uv = g.read<double>("polygon_uv", 2);
+    check_offsets(g, "polygon_offset", offset, n, "joints", uv.size() / 2, "/joints/polygon_uv");
+
+    js.joints.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      Joint& j = js.joints[i];
+      j.plane = {vec3(normal, i), d[i]};
+      j.centre = vec3(centre, i);
+      j.dip_deg = dip[i];
+      j.dip_direction_deg = dip_direction[i];
+      j.kind = static_cast<JointKind>(kind[i]);  // range checked by check_joints
+      j.set = set[i];
+      j.friction_angle_deg = friction[i];
+      j.cohesion = cohesion[i];
+      j.boundary_side = side[i];
+      for (auto k = static_cast<std::size_t>(offset[i]);
+           k < static_cast<std::size_t>(offset[i + 1]); ++k)
+        j.polygon_uv.emplace_back(uv[2 * k], uv[2 * k + 1]);
+    }
+  }
+  {
+    const Group g = root.open_group("sets");
+    const auto count = g.read_attribute<std::int64_t>("count");
+    if (count < 0 || static_cast<std::size_t>(count) != g.member_count())
+      fail(g, "/sets holds " + str(g.member_count()) + " groups but its attribute count is " +
+                  str(count));
+    for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i) {
+      const Group sg = g.open_group(set_group_name(i));
+      JointSetSpec s;
+      s.name = sg.read_attribute<std::string>("name");
+      s.dip_deg = sg.read_attribute<double>("dip");
+      s.dip_direction_deg = sg.read_attribute<double>("dip_direction");
+      s.spacing = sg.read_attribute<double>("spacing");
+      s.offset = sg.read_attribute<double>("offset");
+      s.friction_angle_deg = sg.read_attribute<double>("friction_angle");
+      s.cohesion = sg.read_attribute<double>("cohesion");
+      const auto kind = sg.read_attribute<std::string>("kind");
+      const auto parsed = parse_kind(kind);
+      if (!parsed)
+        fail(sg, sg.attribute_label("kind") + " is \"" + kind +
+                     "\"; expected \"rock\", \"construction\" or \"boundary\"");
+      s.kind = *parsed;
+      const auto side = sg.read_attribute<std::int64_t>("boundary_side");
+      if (side < -1 || side > 1)
+        fail(sg,
+             sg.attribute_label("boundary_side") + " is " + str(side) + "; expected -1, 0 or 1");
+      s.boundary_side = static_cast<std::int8_t>(side);
+      s.joint_count = sg.read_attribute<std::int64_t>("joint_count");
+      js.sets.push_back(std::move(s));
+    }
+  }
+  {
+    const Group g = root.open_group("zones");
+    const auto offset = g.read<std::int64_t>("offset");
+    if (offset.empty()) fail(g, "/zones/offset is empty; expected at least one row (0)");
+    const auto planes = read_planes(g, "the rows of /zones/normal");
+    check_offsets(g, "offset", offset, offset.size() - 1, "zones", planes.size(), "/zones/normal");
+    for (std::size_t z = 0; z + 1 < offset.size(); ++z)
+      js.zones.push_back(
+          {std::vector<Plane>(planes.begin() + offset[z], planes.begin() + offset[z + 1])});
+  }
+  {
+    const Group g = root.open_group("options");
+    const auto order = g.read_attribute<std::string>("order");
+    const auto parsed = parse_order(order);
+    if (!parsed)
+      fail(g, "/options attribute order is \"" + order +
+                  "\"; expected as-given, largest-first, by-set or alternating");
+    js.options.order = *parsed;
+    js.options.min_inscribed_diameter = g.read_attribute<double>("min_inscribed_diameter");
+    js.options.max_aspect_ratio = g.read_attribute<double>("max_aspect_ratio");
+    js.options.tolerance = g.read_attribute<double>("tolerance");
+  }
+  return js;
+}
+
+std::vector<Block> read_blocks_group(const Group& root, bool& pruned) {
+  const Group g = root.open_group("blocks");
+  const auto pruned_value = g.read_attribute<std::int64_t>("pruned");
+  if (pruned_value != 0 && pruned_value != 1)
+    fail(g, "/blocks attribute pruned is " + str(pruned_value) + "; expected 0 or 1");
+  pruned = pruned_value == 1;
+
+  const auto origin = g.read<double>("origin", 3);
+  const std::size_t n = origin.size() / 3;
+  const std::string because = "the rows of /blocks/origin";
+  const auto offset = g.read<std::int64_t>("face_offset");
+  const auto face_normal = g.read<double>("face_normal", 3);
+  const std::size_t faces = face_normal.size() / 3;
+  check_offsets(g, "face_offset", offset, n, "blocks", faces, "/blocks/face_normal");
+  const std::string face_because = "the rows of /blocks/face_normal";
+  const auto face_d = g.read<double>("face_d");
+  expect_rows(g, "face_d", face_d.size(), faces, face_because);
+  const auto face_joint = g.read<std::int64_t>("face_joint");
+  expect_rows(g, "face_joint", face_joint.size(), faces, face_because);
+  const auto inradius = g.read<double>("inradius");
+  expect_rows(g, "inradius", inradius.size(), n, because);
+  const auto bsphere = g.read<double>("bsphere", 4);
+  expect_rows(g, "bsphere", bsphere.size() / 4, n, because);
+  const auto flags = g.read<std::uint8_t>("flags");
+  expect_rows(g, "flags", flags.size(), n, because);
+  const auto cluster = g.read<std::int64_t>("cluster");
+  expect_rows(g, "cluster", cluster.size(), n, because);
+
+  std::vector<Block> blocks(n);
+  for (std::size_t b = 0; b < n; ++b) {
+    Block& blk = blocks[b];
+    blk.origin = vec3(origin, b);
+    for (auto k = static_cast<std::size_t>(offset[b]); k < static_cast<std::size_t>(offset[b + 1]);
+         ++k)
+      blk.faces.push_back({vec3(face_normal, k), face_d[k], face_joint[k]});
+    blk.inradius = inradius[b];
+    blk.bsphere = {bsphere[4 * b], bsphere[4 * b + 1], bsphere[4 * b + 2], bsphere[4 * b + 3]};
+    blk.flags = flags[b];
+    blk.cluster = cluster[b];
+  }
+  return blocks;
+}
+
+}  // namespace
+
+const char* to_string(FileKind k) { return k == FileKind::joints ? "joints" : "blocks"; }
+
+void write_joints(const fs::path& out, const JointSystem& js, const Provenance& prov) {
+  check_joints(Checker(out.string(), kNotWritten), js);
+  write_file(out, FileKind::joints, prov, js, [](const Group&) {});
+}
+
+void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& prov) {
+  check_blocks(Checker(out.string(), kNotWritten), bs);
+  write_file(out, FileKind::blocks, prov, bs.joints,
+             [&](const Group& root) { write_blocks_group(root, bs); });
+}
+
+FileHeader read_header(const fs::path& in) {
+  const h5::File f =
+      h5::File::open(in, {in.string(), "regenerate it with the rockslice tool that made it"});
+  return read_root_header(f.root());
+}
+
+JointSystem read_joints(const fs::path& in) {
+  const h5::File f = h5::File::open(in, {in.string(), kJointsFix});
+  expect_kind(f.root(), FileKind::joints);
+  JointSystem js = read_joint_groups(f.root());
+  check_joints(Checker(in.string(), kJointsFix), js);
+  return js;
+}
+
+BlockSystem read_blocks(const fs::path& in) {
+  const h5::File f = h5::File::open(in, {in.string(), kBlocksFix});
+  expect_kind(f.root(), FileKind::blocks);
+  BlockSystem bs;
+  bs.joints = read_joint_groups(f.root());
+  bs.blocks = read_blocks_group(f.root(), bs.pruned);
+  check_blocks(Checker(in.string(), kBlocksFix), bs);
+  return bs;
+}
+
+}  // namespace slice
