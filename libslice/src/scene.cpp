@@ -82,9 +82,9 @@ constexpr std::array<std::string_view, 4> kOrderNames = {"as-given", "largest-fi
 // More planes than this in one set is a unit slip (spacing in m, domain in mm), not a scene.
 constexpr double kMaxPlanesPerSet = 1e6;
 
-std::string fmt(double x) {
+std::string fmt(double x, int digits = 12) {
   std::ostringstream s;
-  s.precision(12);
+  s.precision(digits);
   s << x;
   return s.str();
 }
@@ -589,11 +589,11 @@ Joint read_joint(const Context& cx, const toml::table& tt, std::size_t index) {
     for (std::size_t i = 0; i < xs.size(); ++i) {
       const double off = std::abs(best.dot(xs[i] - mean));
       if (off > tol)
-        r.fail(
-            *where[i],
-            poly_label + " is not planar: vertex " + std::to_string(i + 1) + " is " + fmt(off) +
-                " from the plane that fits the vertices best",
-            "give vertices that lie in one plane, the joint's plane (tolerance " + fmt(tol) + ")");
+        r.fail(*where[i],
+               poly_label + " is not planar: vertex " + std::to_string(i + 1) + " is " + fmt(off) +
+                   " from the plane that fits the vertices best",
+               "give vertices that lie in one plane, the joint's plane (tolerance " + fmt(tol, 3) +
+                   ")");
     }
     j.centre = point ? to_vector<3>(r, *point, t.label("point")) : mean;
     j.plane = {frame.n, frame.n.dot(j.centre)};
@@ -606,7 +606,7 @@ Joint read_joint(const Context& cx, const toml::table& tt, std::size_t index) {
                    fmt(c.dip_direction) +
                    (point ? ", through 'point'" : ", through the vertex mean") + ")",
                "put the vertices on the plane or correct dip / dip_direction" +
-                   std::string(point ? " / point" : "") + " (tolerance " + fmt(tol) + ")");
+                   std::string(point ? " / point" : "") + " (tolerance " + fmt(tol, 3) + ")");
       uv.push_back(frame.to_uv(j.centre, xs[i]));
     }
     check_polygon(r, uv, where, *poly, poly_label, tol);
