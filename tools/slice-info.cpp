@@ -19,9 +19,12 @@ ordered_json describe_joints(const slice::JointSystem& js) {
   j["seed"] = js.seed;
   const auto poly =
       slice::analyse_polytope(js.domain.planes, js.options.tolerance * js.length_scale);
+  const auto xyz = [](const slice::Vec3& v) {  // + 0.0 prints -0.0 as 0
+    return ordered_json::array({v.x() + 0.0, v.y() + 0.0, v.z() + 0.0});
+  };
   j["domain"] = {{"planes", js.domain.planes.size()},
-                 {"min", {poly.min.x(), poly.min.y(), poly.min.z()}},
-                 {"max", {poly.max.x(), poly.max.y(), poly.max.z()}},
+                 {"min", xyz(poly.min)},
+                 {"max", xyz(poly.max)},
                  {"volume", poly.volume},
                  {"length_scale", js.length_scale}};
   j["options"] = {{"order", slice::to_string(js.options.order)},

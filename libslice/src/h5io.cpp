@@ -28,34 +28,6 @@ constexpr const char* kWriteFix =
 constexpr const char* kJointsFix = "regenerate it with slice-joints";
 constexpr const char* kBlocksFix = "regenerate it with slice-cut";
 
-// Names stored in the files. Private mappings: scene.cpp owns slice::to_string(JointKind) and
-// slice::to_string(JointOrder); these must spell the same (DESIGN section 6).
-constexpr std::array<const char*, 3> kJointKindNames{"rock", "construction", "boundary"};
-constexpr std::array<const char*, 4> kOrderNames{"as-given", "largest-first", "by-set",
-                                                 "alternating"};
-
-const char* kind_name(JointKind k) {
-  const auto i = static_cast<std::size_t>(k);
-  return i < kJointKindNames.size() ? kJointKindNames[i] : "invalid";
-}
-
-std::optional<JointKind> parse_kind(const std::string& s) {
-  for (std::size_t i = 0; i < kJointKindNames.size(); ++i)
-    if (s == kJointKindNames[i]) return static_cast<JointKind>(i);
-  return std::nullopt;
-}
-
-const char* order_name(JointOrder o) {
-  const auto i = static_cast<std::size_t>(o);
-  return i < kOrderNames.size() ? kOrderNames[i] : "invalid";
-}
-
-std::optional<JointOrder> parse_order(const std::string& s) {
-  for (std::size_t i = 0; i < kOrderNames.size(); ++i)
-    if (s == kOrderNames[i]) return static_cast<JointOrder>(i);
-  return std::nullopt;
-}
-
 // Shortest text that reads back as the same double ("nan", "inf", "0.1").
 std::string num(double v) {
   std::array<char, 32> buf{};
@@ -178,7 +150,7 @@ void check_joints(const Checker& c, const JointSystem& js) {
     zone_row += z.planes.size();
   }
 
-  if (static_cast<std::size_t>(js.options.order) >= kOrderNames.size())
+  if (static_cast<std::size_t>(js.options.order) >= kJointOrderNames.size())
     c.fail("/options attribute order is invalid (" +
            std::to_string(static_cast<int>(js.options.order)) + ")");
   c.finite(js.options.min_inscribed_diameter, "/options attribute min_inscribed_diameter");
@@ -292,7 +264,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
       sg.write_attribute("offset", s.offset);
       sg.write_attribute("friction_angle", s.friction_angle_deg);
       sg.write_attribute("cohesion", s.cohesion);
-      sg.write_attribute<std::string>("kind", kind_name(s.kind));
+      sg.write_attribute<std::string>("kind", to_string(s.kind));
       sg.write_attribute<std::int64_t>("boundary_side", s.boundary_side);
       sg.write_attribute("joint_count", s.joint_count);
     }
@@ -310,7 +282,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
   }
   {
     const Group g = root.create_group("options");
-    g.write_attribute<std::string>("order", order_name(js.options.order));
+    g.write_attribute<std::string>("order", to_string(js.options.order));
     g.write_attribute("min_inscribed_diameter", js.options.min_inscribed_diameter);
     g.write_attribute("max_aspect_ratio", js.options.max_aspect_ratio);
     g.write_attribute("tolerance", js.options.tolerance);
@@ -526,7 +498,7 @@ JointSystem read_joint_groups(const Group& root) {
       s.friction_angle_deg = sg.read_attribute<double>("friction_angle");
       s.cohesion = sg.read_attribute<double>("cohesion");
       const auto kind = sg.read_attribute<std::string>("kind");
-      const auto parsed = parse_kind(kind);
+      const auto parsed = parse_joint_kind(kind);
       if (!parsed)
         fail(sg, sg.attribute_label("kind") + " is \"" + kind +
                      "\"; expected \"rock\", \"construction\" or \"boundary\"");
@@ -553,7 +525,7 @@ JointSystem read_joint_groups(const Group& root) {
   {
     const Group g = root.open_group("options");
     const auto order = g.read_attribute<std::string>("order");
-    const auto parsed = parse_order(order);
+    const auto parsed = parse_joint_order(order);
     if (!parsed)
       fail(g, "/options attribute order is \"" + order +
                   "\"; expected as-given, largest-first, by-set or alternating");

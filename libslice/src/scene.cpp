@@ -24,30 +24,23 @@
 
 namespace slice {
 
-const char* to_string(JointKind k) {
-  switch (k) {
-    case JointKind::rock:
-      return "rock";
-    case JointKind::construction:
-      return "construction";
-    case JointKind::boundary:
-      return "boundary";
-  }
-  return "unknown";
+namespace {
+template <typename Enum, std::size_t N>
+std::optional<Enum> parse_name(std::string_view s, const std::array<std::string_view, N>& names) {
+  for (std::size_t i = 0; i < N; ++i)
+    if (s == names[i]) return static_cast<Enum>(i);
+  return std::nullopt;
 }
+}  // namespace
 
-const char* to_string(JointOrder o) {
-  switch (o) {
-    case JointOrder::as_given:
-      return "as-given";
-    case JointOrder::largest_first:
-      return "largest-first";
-    case JointOrder::by_set:
-      return "by-set";
-    case JointOrder::alternating:
-      return "alternating";
-  }
-  return "unknown";
+// The tables hold string literals, so data() is NUL-terminated.
+const char* to_string(JointKind k) { return kJointKindNames.at(std::size_t(k)).data(); }
+const char* to_string(JointOrder o) { return kJointOrderNames.at(std::size_t(o)).data(); }
+std::optional<JointKind> parse_joint_kind(std::string_view s) {
+  return parse_name<JointKind>(s, kJointKindNames);
+}
+std::optional<JointOrder> parse_joint_order(std::string_view s) {
+  return parse_name<JointOrder>(s, kJointOrderNames);
 }
 
 namespace {
@@ -74,10 +67,7 @@ constexpr std::array<std::string_view, 9> kSetKeys = {
 constexpr std::array<std::string_view, 8> kStochasticKeys = {
     "fisher_kappa", "density", "p32", "p10", "scanline", "count", "size", "shape"};
 
-constexpr std::array<std::string_view, 3> kKindNames = {"rock", "construction", "boundary"};
 constexpr std::array<std::string_view, 2> kKeepNames = {"above", "below"};
-constexpr std::array<std::string_view, 4> kOrderNames = {"as-given", "largest-first", "by-set",
-                                                         "alternating"};
 
 // More planes than this in one set is a unit slip (spacing in m, domain in mm), not a scene.
 constexpr double kMaxPlanesPerSet = 1e6;
@@ -521,7 +511,7 @@ Common read_common(const Tbl& t) {
     t.r.fail(*t.find("cohesion"), t.label("cohesion") + " is " + fmt(c.cohesion) + " < 0",
              "give a cohesion >= 0 (Pa)");
   if (const toml::node* k = t.find("kind"))
-    c.kind = static_cast<JointKind>(to_choice(t.r, *k, t.label("kind"), kKindNames));
+    c.kind = static_cast<JointKind>(to_choice(t.r, *k, t.label("kind"), kJointKindNames));
   const toml::node* keep = t.find("keep");
   if (c.kind == JointKind::boundary) {
     const toml::node& kn = t.require(
@@ -785,7 +775,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
     t.check_keys(kOptionKeys);
     if (const toml::node* n = t.find("order"))
       scene.options.order =
-          static_cast<JointOrder>(to_choice(r, *n, t.label("order"), kOrderNames));
+          static_cast<JointOrder>(to_choice(r, *n, t.label("order"), kJointOrderNames));
     const double dmin = number(t, "min_inscribed_diameter", 0);
     if (dmin < 0)
       r.fail(*t.find("min_inscribed_diameter"),

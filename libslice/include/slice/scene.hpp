@@ -1,9 +1,12 @@
 #pragma once
 // The scene (DESIGN section 6) and the joint system it generates (the content of joints.h5,
 // DESIGN section 7).
+#include <array>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "slice/geometry.hpp"
@@ -13,8 +16,17 @@ namespace slice {
 enum class JointKind : std::uint8_t { rock = 0, construction = 1, boundary = 2 };
 enum class JointOrder { as_given, largest_first, by_set, alternating };
 
+/// The names scene files and HDF5 files use, indexed by the enum's value (a public contract).
+inline constexpr std::array<std::string_view, 3> kJointKindNames = {"rock", "construction",
+                                                                    "boundary"};
+inline constexpr std::array<std::string_view, 4> kJointOrderNames = {"as-given", "largest-first",
+                                                                     "by-set", "alternating"};
+
 const char* to_string(JointKind k);
 const char* to_string(JointOrder o);
+/// The enum named by s, or nothing if s names none.
+std::optional<JointKind> parse_joint_kind(std::string_view s);
+std::optional<JointOrder> parse_joint_order(std::string_view s);
 
 /// One joint: a plane, optionally bounded by a convex polygon.
 struct Joint {
