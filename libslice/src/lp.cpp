@@ -150,35 +150,44 @@ std::unique_ptr<LpSolver> make_solver(LpBackend backend) {
 //                     s >= -(2 max|d_i| + L)
 // The bound never binds for a bounded block (s* >= -inradius >= -max d_i); it only keeps an
 // unbounded region (a block of cones) from making the LP unbounded.
-CutTest cut_test(LpSolver& solver, std::span<const Face> faces, const Plane& plane,
-                 std::span<const Plane> edges, const Tolerances& tol) {
+PlaneFrame cut_test_lp(std::span<const Face> faces, const Plane& plane,
+                       std::span<const Plane> edges, const Tolerances& tol, DenseLp& lp) {
   const double dmax = check_faces(faces, "cut test");
   check_unit(plane.normal, plane.d, "cut test", "joint plane", 0);
   for (std::size_t k = 0; k < edges.size(); ++k)
     check_unit(edges[k].normal, edges[k].d, "cut test", "polygon edge", k);
 
-  Vec3 u, v;
-  plane_basis(plane.normal, u, v);
-  const Vec3 p0 = plane.d * plane.normal;
-  DenseLp& lp = solver.scratch();
+  PlaneFrame f;
+  plane_basis(plane.normal, f.u, f.v);
+  f.p0 = plane.d * plane.normal;
   lp.reset(3);
   lp.c = LpVec(0, 0, 1, 0);
   lp.lower[2] = -(2 * dmax + tol.length_scale);
   lp.scale = std::max(block_scale(dmax, tol), std::abs(plane.d));
-  for (const Face& f : faces)
-    lp.add_row(LpVec(f.normal.dot(u), f.normal.dot(v), -1, 0), f.d - f.normal.dot(p0));
+  for (const Face& face : faces)
+    lp.add_row(LpVec(face.normal.dot(f.u), face.normal.dot(f.v), -1, 0),
+               face.d - face.normal.dot(f.p0));
   for (const Plane& e : edges)
-    lp.add_row(LpVec(e.normal.dot(u), e.normal.dot(v), -1, 0), e.d - e.normal.dot(p0));
+    lp.add_row(LpVec(e.normal.dot(f.u), e.normal.dot(f.v), -1, 0), e.d - e.normal.dot(f.p0));
+  return f;
+}
 
-  const LpResult r = solver.solve(lp);
+CutTest cut_test_result(const LpResult& r, const PlaneFrame& frame, const Tolerances& tol) {
   CutTest out;
   out.status = r.status;
   if (r.status == LpStatus::optimal) {
     out.s = r.x[2];
-    out.point = p0 + r.x[0] * u + r.x[1] * v;
+    out.point = frame.p0 + r.x[0] * frame.u + r.x[1] * frame.v;
     out.cuts = out.s < -tol.cut;
   }
   return out;
+}
+
+CutTest cut_test(LpSolver& solver, std::span<const Face> faces, const Plane& plane,
+                 std::span<const Plane> edges, const Tolerances& tol) {
+  DenseLp& lp = solver.scratch();
+  const PlaneFrame frame = cut_test_lp(faces, plane, edges, tol, lp);
+  return cut_test_result(solver.solve(lp), frame, tol);
 }
 
 // Boon et al. 2015, eq. 8: maximise c . x over the other faces, c the tested face's normal.

@@ -17,13 +17,15 @@
 // row likewise asks for a larger box.
 //
 // Accuracy: x and y are recomputed every iteration from the original rows by a partially
-// pivoted LU of the N x N basis (no drifting update), refined once at the end. For the cut and
+// pivoted LU of the N x N basis (no drifting update), and refined at the end. For the cut and
 // Chebyshev LPs the optimal multipliers sum to 1, so the objective's error is a few rounding
 // errors of |b| + |x|, whatever the basis' condition (see the property tests).
 //
 // Degeneracy: Harris' two-pass ratio test picks the largest pivot among near-ties; if the
 // iterations exceed a multiple of the rows (cycling), pricing switches to Bland's rule, which
-// terminates. No heap allocation: the rows are read in place.
+// terminates. Once primal feasible, multipliers that rounding or Harris' tolerance left
+// negative are removed by primal simplex steps (a near-flat objective needs them: see
+// kFinalDualTol). No heap allocation: the rows are read in place.
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
@@ -46,6 +48,11 @@ constexpr double kPivotTol = 1e-11;
 // Harris' ratio test lets multipliers go this far below 0, relative to |c|, to choose a larger
 // pivot among near-ties.
 constexpr double kDualTol = 1e-13;
+// At a primal feasible vertex, a multiplier below -kFinalDualTol |c| is cleaned up by a primal
+// simplex step. Dropping a row with multiplier y lowers the objective by |y| times the distance
+// moved (a few scale at most), so the optimum is reached to ~1e-15 |c| scale. Rounding alone
+// leaves multipliers of 1e-12 on near-flat objectives (a plane within 1e-12 rad of a face).
+constexpr double kFinalDualTol = 1e-15;
 // The artificial box starts at kBoxFactor scale and grows by kBoxGrowth, kBoxLevels times.
 constexpr double kBoxFactor = 1e3;
 constexpr double kBoxGrowth = 1e4;
@@ -53,7 +60,7 @@ constexpr int kBoxLevels = 3;
 // A recession direction r (|r_j| <= 1) proves unboundedness if c . r < -kRecessionTol |c|_1.
 constexpr double kRecessionTol = 1e-9;
 
-enum class Outcome { optimal, infeasible, infeasible_in_box, failed };
+enum class Outcome { optimal, infeasible, infeasible_in_box, unbounded, failed };
 
 template <int N>
 class DualSimplex {
@@ -70,13 +77,31 @@ class DualSimplex {
     const int candidates = m_ + 2 * N;
     const int bland_after = 50 + 10 * candidates;
     const int limit = bland_after + 200 + 50 * candidates;
+    const int cleanup_limit = 10 + 2 * candidates;
+    int cleanups = 0;
     for (iterations_ = 0; iterations_ < limit; ++iterations_) {
       if (!factor_basis()) return Outcome::failed;
       const bool bland = iterations_ >= bland_after;
       const int q = price(bland);
       if (q < 0) {
-        refine();
-        return Outcome::optimal;
+        // Primal feasible. Dual feasible too, unless rounding or Harris' tolerance left a
+        // negative multiplier: then a primal simplex step drops that row.
+        const int k = most_negative_multiplier();
+        if (k < 0 || cleanups >= cleanup_limit) {
+          refine();
+          return Outcome::optimal;
+        }
+        const Vec d = solve(-Vec::Unit(k));  // leaves row k, keeps the other basis rows tight
+        const int p = primal_ratio_test(d);
+        if (p < 0) {
+          // Nothing blocks: c . d = y_k < 0 along a feasible ray.
+          if (y_[k] < -kRecessionTol * c_.cwiseAbs().sum()) return Outcome::unbounded;
+          refine();
+          return Outcome::optimal;
+        }
+        basis_[k] = p;
+        ++cleanups;
+        continue;
       }
       const Vec aq = row_a(q);
       const Vec alpha = solve_transposed(aq);
@@ -196,12 +221,23 @@ class DualSimplex {
     return y;
   }
 
-  /// One step of iterative refinement of x against the original basis rows.
+  /// Iterative refinement of x against the original basis rows with residuals in long double
+  /// (x87 extended on x86-64): x then has the accuracy of its rounding even for an
+  /// ill-conditioned basis (a far vertex of near-parallel faces), not eps times the condition.
   void refine() {
-    Vec r;
-    for (int k = 0; k < N; ++k) r[k] = b_[k] - row_a(basis_[k]).dot(x_);
-    const Vec dx = solve(r);
-    if (dx.allFinite()) x_ += dx;
+    for (int step = 0; step < 2; ++step) {
+      Vec r;
+      for (int k = 0; k < N; ++k) {
+        const Vec a = row_a(basis_[k]);
+        long double s = b_[k];
+        for (int j = 0; j < N; ++j)
+          s -= static_cast<long double>(a[j]) * static_cast<long double>(x_[j]);
+        r[k] = static_cast<double>(s);
+      }
+      const Vec dx = solve(r);
+      if (!dx.allFinite()) return;
+      x_ += dx;
+    }
   }
 
   bool in_basis(int i) const {
@@ -238,6 +274,39 @@ class DualSimplex {
       }
     }
     return q;
+  }
+
+  int most_negative_multiplier() const {
+    int k = -1;
+    double worst = -kFinalDualTol * c_.cwiseAbs().maxCoeff();
+    for (int j = 0; j < N; ++j)
+      if (y_[j] < worst) {
+        worst = y_[j];
+        k = j;
+      }
+    return k;
+  }
+
+  /// The row that blocks the move from x along d first (largest a . d among ties), or -1.
+  int primal_ratio_test(const Vec& d) const {
+    const double dn = d.cwiseAbs().maxCoeff();
+    int best = -1;
+    double best_t = 0, best_ad = 0;
+    auto consider = [&](int i, const Vec& a, double b) {
+      const double ad = a.dot(d);
+      if (!(ad > kPivotTol * dn * a.cwiseAbs().maxCoeff()) || in_basis(i)) return;
+      const double t = std::max(b - a.dot(x_), 0.0) / ad;
+      if (best < 0 || t < best_t || (t == best_t && ad > best_ad)) {
+        best = i;
+        best_t = t;
+        best_ad = ad;
+      }
+    };
+    for (int i = 0; i < m_; ++i)
+      consider(i, lp_.rows[i].a.template head<N>(), homog_ ? 0.0 : lp_.rows[i].b);
+    for (int i = m_; i < m_ + 2 * N; ++i)
+      if (bound(i) != DenseLp::kInf) consider(i, row_a(i), row_b(i));
+    return best;
   }
 
   /// The leaving basis position, or -1 if no multiplier decreases (infeasible).
@@ -298,6 +367,10 @@ LpResult solve_fixed(const DenseLp& lp) {
     const Outcome o = dual.run();
     out.iterations += dual.iterations();
     if (o == Outcome::failed) return out;
+    if (o == Outcome::unbounded) {
+      out.status = LpStatus::unbounded;
+      return out;
+    }
     if (o == Outcome::infeasible) {
       out.status = LpStatus::infeasible;
       return out;

@@ -110,6 +110,16 @@ struct CutTest {
 CutTest cut_test(LpSolver& solver, std::span<const Face> faces, const Plane& plane,
                  std::span<const Plane> edges, const Tolerances& tol);
 
+/// The plane's parametrisation x = p0 + u U + v V (block frame) used by the cut test's LP.
+struct PlaneFrame {
+  Vec3 p0 = Vec3::Zero(), u = Vec3::UnitX(), v = Vec3::UnitY();
+};
+/// cut_test in two halves, to batch many cut tests through LpSolver::solve_batch: fills `lp`
+/// with the cut test's LP and returns the frame that cut_test_result maps its solution back with.
+PlaneFrame cut_test_lp(std::span<const Face> faces, const Plane& plane,
+                       std::span<const Plane> edges, const Tolerances& tol, DenseLp& lp);
+CutTest cut_test_result(const LpResult& r, const PlaneFrame& frame, const Tolerances& tol);
+
 /// Redundant face (eq. 8): value = max c . x over the other faces, c = faces[index].normal.
 struct FaceRedundancy {
   LpStatus status = LpStatus::failed;
