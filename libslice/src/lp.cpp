@@ -1,0 +1,269 @@
+#include "slice/lp.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "lp_backends.hpp"
+#include "slice/error.hpp"
+
+namespace slice {
+
+namespace {
+
+// A face normal is unit if | |n|^2 - 1 | is below this. Dimensionless: normals come from sin/cos
+// of angles or from normalisation, both good to a few ulps; this only catches unnormalised input.
+constexpr double kUnitNormalTol = 1e-10;
+
+std::string lower_case(std::string_view s) {
+  std::string out(s);
+  std::transform(out.begin(), out.end(), out.begin(),
+                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return out;
+}
+
+void check_unit(const Vec3& n, double d, const char* where, const char* what, std::size_t i) {
+  if (!n.allFinite() || !std::isfinite(d) || std::abs(n.squaredNorm() - 1) > kUnitNormalTol)
+    throw Error(where,
+                std::string(what) + " " + std::to_string(i) + " has normal (" +
+                    std::to_string(n.x()) + ", " + std::to_string(n.y()) + ", " +
+                    std::to_string(n.z()) + ") and d " + std::to_string(d),
+                "normals must be finite unit vectors and d finite");
+}
+
+/// Checks the faces and returns max |d_i| (0 for no faces).
+double check_faces(std::span<const Face> faces, const char* where) {
+  double dmax = 0;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    check_unit(faces[i].normal, faces[i].d, where, "face", i);
+    dmax = std::max(dmax, std::abs(faces[i].d));
+  }
+  return dmax;
+}
+
+/// The LP's length scale: the block's size in its own frame, or L for a block of cones.
+double block_scale(double dmax, const Tolerances& tol) {
+  return dmax > 0 ? dmax : std::max(tol.length_scale, 1e-300);
+}
+
+/// An orthonormal basis (U, V) of the plane with unit normal n, the same for the same n.
+void plane_basis(const Vec3& n, Vec3& u, Vec3& v) {
+  int k = 0;  // the axis least aligned with n
+  if (std::abs(n.y()) < std::abs(n[k])) k = 1;
+  if (std::abs(n.z()) < std::abs(n[k])) k = 2;
+  u = n.cross(Vec3::Unit(k)).normalized();
+  v = n.cross(u);
+}
+
+}  // namespace
+
+std::string to_string(LpBackend backend) {
+  switch (backend) {
+    case LpBackend::native:
+      return "native";
+    case LpBackend::ipopt:
+      return "ipopt";
+    case LpBackend::exact:
+      return "exact";
+  }
+  SLICE_ASSERT(false);
+}
+
+LpBackend parse_lp_backend(std::string_view name) {
+  const std::string s = lower_case(name);
+  if (s == "native") return LpBackend::native;
+  if (s == "ipopt") return LpBackend::ipopt;
+  if (s == "exact") return LpBackend::exact;
+  throw Error("LP backend", "unknown backend '" + std::string(name) + "'",
+              "use native, ipopt or exact");
+}
+
+std::string to_string(LpStatus status) {
+  switch (status) {
+    case LpStatus::optimal:
+      return "optimal";
+    case LpStatus::infeasible:
+      return "infeasible";
+    case LpStatus::unbounded:
+      return "unbounded";
+    case LpStatus::failed:
+      return "failed";
+  }
+  SLICE_ASSERT(false);
+}
+
+void DenseLp::reset(int n) {
+  vars = n;
+  maximise = false;
+  c.setZero();
+  rows.clear();
+  lower.setConstant(-kInf);
+  upper.setConstant(kInf);
+  scale = 1;
+}
+
+void DenseLp::validate() const {
+  const char* where = "LP";
+  if (vars < 1 || vars > kLpMaxVars)
+    throw Error(where, "has " + std::to_string(vars) + " variables",
+                "use 1 to " + std::to_string(kLpMaxVars));
+  if (!(scale > 0) || !std::isfinite(scale))
+    throw Error(where, "scale is " + std::to_string(scale), "give a positive finite length");
+  if (!c.allFinite() || !c.tail(kLpMaxVars - vars).isZero(0))
+    throw Error(where, "objective has a non-finite entry or one past its variables");
+  for (int j = 0; j < kLpMaxVars; ++j) {
+    if (std::isnan(lower[j]) || std::isnan(upper[j]) || lower[j] > upper[j] || lower[j] == kInf ||
+        upper[j] == -kInf)
+      throw Error(where, "variable " + std::to_string(j) + " has bounds [" +
+                             std::to_string(lower[j]) + ", " + std::to_string(upper[j]) + "]");
+  }
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (!rows[i].a.allFinite() || !std::isfinite(rows[i].b) ||
+        !rows[i].a.tail(kLpMaxVars - vars).isZero(0))
+      throw Error(where, "row " + std::to_string(i) +
+                             " has a non-finite entry or a coefficient past its variables");
+  }
+}
+
+void LpSolver::solve_batch(std::span<const DenseLp> lps, std::span<LpResult> out) {
+  SLICE_ASSERT(lps.size() == out.size());
+  for (std::size_t k = 0; k < lps.size(); ++k) out[k] = solve(lps[k]);
+}
+
+std::unique_ptr<LpSolver> make_solver(LpBackend backend) {
+  switch (backend) {
+    case LpBackend::native:
+      return detail::make_native_solver();
+    case LpBackend::ipopt:
+      return detail::make_ipopt_solver();
+    case LpBackend::exact:
+      return detail::make_exact_solver();
+  }
+  SLICE_ASSERT(false);
+}
+
+// Boon et al. 2015, eq. 7 (persistent joint) and eq. 16 (polygon edges). The plane's equality
+// is eliminated by x = p0 + u U + v V with p0 the foot of the block origin on the plane:
+//   minimise s  s.t.  (a_i.U) u + (a_i.V) v - s <= d_i - a_i.p0   (faces)
+//                     (b_k.U) u + (b_k.V) v - s <= e_k - b_k.p0   (edges)
+//                     s >= -(2 max|d_i| + L)
+// The bound never binds for a bounded block (s* >= -inradius >= -max d_i); it only keeps an
+// unbounded region (a block of cones) from making the LP unbounded.
+PlaneFrame cut_test_lp(std::span<const Face> faces, const Plane& plane,
+                       std::span<const Plane> edges, const Tolerances& tol, DenseLp& lp) {
+  const double dmax = check_faces(faces, "cut test");
+  check_unit(plane.normal, plane.d, "cut test", "joint plane", 0);
+  for (std::size_t k = 0; k < edges.size(); ++k)
+    check_unit(edges[k].normal, edges[k].d, "cut test", "polygon edge", k);
+
+  PlaneFrame f;
+  plane_basis(plane.normal, f.u, f.v);
+  f.p0 = plane.d * plane.normal;
+  lp.reset(3);
+  lp.c = LpVec(0, 0, 1, 0);
+  lp.lower[2] = -(2 * dmax + tol.length_scale);
+  lp.scale = std::max(block_scale(dmax, tol), std::abs(plane.d));
+  for (const Face& face : faces)
+    lp.add_row(LpVec(face.normal.dot(f.u), face.normal.dot(f.v), -1, 0),
+               face.d - face.normal.dot(f.p0));
+  for (const Plane& e : edges)
+    lp.add_row(LpVec(e.normal.dot(f.u), e.normal.dot(f.v), -1, 0), e.d - e.normal.dot(f.p0));
+  return f;
+}
+
+CutTest cut_test_result(const LpResult& r, const PlaneFrame& frame, const Tolerances& tol) {
+  CutTest out;
+  out.status = r.status;
+  if (r.status == LpStatus::optimal) {
+    out.s = r.x[2];
+    out.point = frame.p0 + r.x[0] * frame.u + r.x[1] * frame.v;
+    out.cuts = out.s < -tol.cut;
+  }
+  return out;
+}
+
+CutTest cut_test(LpSolver& solver, std::span<const Face> faces, const Plane& plane,
+                 std::span<const Plane> edges, const Tolerances& tol) {
+  DenseLp& lp = solver.scratch();
+  const PlaneFrame frame = cut_test_lp(faces, plane, edges, tol, lp);
+  return cut_test_result(solver.solve(lp), frame, tol);
+}
+
+// Boon et al. 2015, eq. 8: maximise c . x over the other faces, c the tested face's normal.
+FaceRedundancy face_redundancy(LpSolver& solver, std::span<const Face> faces, std::size_t index,
+                               const Tolerances& tol) {
+  if (index >= faces.size())
+    throw Error("face redundancy",
+                "face " + std::to_string(index) + " of a block with " +
+                    std::to_string(faces.size()) + " faces",
+                "pass the index of one of the block's faces");
+  const double dmax = check_faces(faces, "face redundancy");
+  DenseLp& lp = solver.scratch();
+  lp.reset(3);
+  lp.maximise = true;
+  lp.c.head<3>() = faces[index].normal;
+  lp.scale = block_scale(dmax, tol);
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    if (i != index)
+      lp.add_row(LpVec(faces[i].normal.x(), faces[i].normal.y(), faces[i].normal.z(), 0),
+                 faces[i].d);
+  const LpResult r = solver.solve(lp);
+  FaceRedundancy out;
+  out.status = r.status;
+  if (r.status == LpStatus::optimal) {
+    out.value = r.objective;
+    out.redundant = out.value <= faces[index].d + tol.prune;
+  } else if (r.status == LpStatus::unbounded) {
+    out.value = DenseLp::kInf;
+  }
+  return out;
+}
+
+// Boon et al. 2015, eq. 17: maximise +-e_k . x over the block, six LPs on the same rows.
+Extents extents(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol) {
+  const double dmax = check_faces(faces, "extents");
+  DenseLp& lp = solver.scratch();
+  lp.reset(3);
+  lp.maximise = true;
+  lp.scale = block_scale(dmax, tol);
+  for (const Face& f : faces) lp.add_row(LpVec(f.normal.x(), f.normal.y(), f.normal.z(), 0), f.d);
+  Extents out;
+  out.status = LpStatus::optimal;
+  for (int k = 0; k < 3 && out.status == LpStatus::optimal; ++k) {
+    for (const double sign : {1.0, -1.0}) {
+      lp.c.setZero();
+      lp.c[k] = sign;
+      const LpResult r = solver.solve(lp);
+      if (r.status != LpStatus::optimal) {
+        out.status = r.status;
+        break;
+      }
+      (sign > 0 ? out.max : out.min)[k] = sign * r.objective;
+    }
+  }
+  if (out.status != LpStatus::optimal) return Extents{out.status};
+  out.centre = 0.5 * (out.min + out.max);
+  out.radius = 0.5 * (out.max - out.min).norm();
+  return out;
+}
+
+// Boon et al. 2015, eq. 18: minimise t s.t. a_i . x - d_i <= t (unit a_i); radius = -t*.
+ChebyshevBall chebyshev_ball(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol) {
+  const double dmax = check_faces(faces, "Chebyshev centre");
+  DenseLp& lp = solver.scratch();
+  lp.reset(4);
+  lp.c = LpVec(0, 0, 0, 1);
+  lp.scale = block_scale(dmax, tol);
+  for (const Face& f : faces) lp.add_row(LpVec(f.normal.x(), f.normal.y(), f.normal.z(), -1), f.d);
+  const LpResult r = solver.solve(lp);
+  ChebyshevBall out;
+  out.status = r.status;
+  if (r.status == LpStatus::optimal) {
+    out.centre = r.x.head<3>();
+    out.radius = -r.x[3];
+  }
+  return out;
+}
+
+}  // namespace slice

@@ -1,0 +1,338 @@
+// native and ipopt against exact on generated LPs (slice/lp.hpp). Every case is made from its
+// own index with fixed seeds, so the cases (and any failure) are the same on every run and for
+// any number of threads. Catch2 is not thread-safe: workers collect a Report, the main thread
+// asserts on it.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <functional>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "slice/lp.hpp"
+#include "support/lp_cases.hpp"
+
+namespace {
+
+using namespace test::lp;
+using slice::LpBackend;
+using slice::LpStatus;
+
+// native's objective may differ from exact's by at most this times max(L, |exact|) (issue 5
+// asks for 1e-12 L). The max matters only for face redundancy: without the tested face a block
+// can reach 1e4 L along a spike, where one ulp is already 2e-12 L.
+constexpr double kNativeRelErr = 1e-12;
+// ipopt stops at tol = 1e-10 on the LP scaled to O(1) (lp_ipopt.cpp); slice-bench-lp measures
+// its error against exact at a few 1e-10 L at most. The test allows 1e-8 L and asserts
+// identical decisions whenever exact's answer is farther than that from the threshold.
+constexpr double kIpoptRelErr = 1e-8;
+constexpr double kRelTol = 1e-9;  // Tolerances::from_scale(L, 1e-9): cut = prune = 1e-9 L
+
+constexpr Variant kVariants[] = {Variant::base, Variant::offset, Variant::small, Variant::large};
+constexpr PlaneKind kKinds[] = {PlaneKind::interior, PlaneKind::vertex,    PlaneKind::edge,
+                                PlaneKind::face,     PlaneKind::near_face, PlaneKind::near_touch,
+                                PlaneKind::miss};
+
+std::uint64_t mix(std::uint64_t seed, std::uint64_t i) {
+  return seed ^ (i * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull);
+}
+
+Face present(const Face& f, Variant v) {
+  if (v == Variant::offset) {
+    const Plane p =
+        slice::to_local(slice::to_global(Plane{f.normal, f.d}, kOffsetOrigin), kOffsetOrigin);
+    return {p.normal, p.d, f.joint};
+  }
+  return {f.normal, f.d * variant_scale(v), f.joint};
+}
+std::vector<Face> present(const std::vector<Face>& faces, Variant v) {
+  std::vector<Face> out;
+  for (const Face& f : faces) out.push_back(present(f, v));
+  return out;
+}
+
+/// What the workers found; merged in case order so the messages are deterministic.
+struct Report {
+  long cases = 0;
+  long in_band = 0;  // cases whose exact answer was within the error bound of the threshold
+  long decisions = 0;
+  long positive = 0;  // decisions that were "cuts" / "redundant"
+  double max_rel_err = 0;
+  long failures = 0;
+  std::vector<std::string> messages;  // the first few failures
+
+  void fail(long index, const std::string& what) {
+    ++failures;
+    if (messages.size() < 8) messages.push_back("case " + std::to_string(index) + ": " + what);
+  }
+  void merge(const Report& r) {
+    cases += r.cases;
+    in_band += r.in_band;
+    decisions += r.decisions;
+    positive += r.positive;
+    max_rel_err = std::max(max_rel_err, r.max_rel_err);
+    failures += r.failures;
+    for (const auto& m : r.messages)
+      if (messages.size() < 8) messages.push_back(m);
+  }
+};
+
+/// Runs fn(index, workspace, report) for index in [0, n) on `threads` threads, each with its
+/// own solvers.
+struct Workspace {
+  std::unique_ptr<slice::LpSolver> test, exact;
+};
+using CaseFn = std::function<void(long, Workspace&, Report&)>;
+
+Report run_cases(long n, LpBackend backend, int threads, const CaseFn& fn) {
+  const long chunk = 256;
+  std::vector<Report> reports(static_cast<std::size_t>((n + chunk - 1) / chunk));
+  std::mutex next_mutex;
+  long next = 0;
+  auto worker = [&] {
+    Workspace ws{slice::make_solver(backend), slice::make_solver(LpBackend::exact)};
+    for (;;) {
+      long begin;
+      {
+        std::lock_guard<std::mutex> lock(next_mutex);
+        begin = next;
+        next += chunk;
+      }
+      if (begin >= n) return;
+      Report& r = reports[static_cast<std::size_t>(begin / chunk)];
+      for (long i = begin; i < std::min(n, begin + chunk); ++i) fn(i, ws, r);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  Report total;
+  for (const auto& r : reports) total.merge(r);
+  return total;
+}
+
+int worker_threads(LpBackend backend) {
+  // Ipopt's MUMPS (sequential build) keeps global state: one thread for ipopt.
+  if (backend == LpBackend::ipopt) return 1;
+  return std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, 2);
+}
+
+void check_report(const Report& r, long expected_cases, const char* what) {
+  INFO(what << ": " << r.cases << " cases, " << r.decisions << " decisions (" << r.positive
+            << " positive), " << r.in_band << " in the error band, max error " << r.max_rel_err
+            << " max(L, |exact|)");
+  std::string first;
+  for (const auto& m : r.messages) first += "\n  " + m;
+  INFO("first failures:" << first);
+  CHECK(r.cases == expected_cases);
+  CHECK(r.failures == 0);
+  // Print the summary even on success (ctest -V / --success shows it).
+  std::ostringstream os;
+  os << what << ": " << r.cases << " cases, " << r.decisions << " decisions (" << r.positive
+     << " positive), " << r.in_band << " in band, max |err| = " << r.max_rel_err
+     << " max(L, |exact|)";
+  SUCCEED(os.str());
+}
+
+std::string fmt(double x) {
+  std::ostringstream os;
+  os.precision(17);
+  os << x;
+  return os.str();
+}
+
+/// Compares one answer with exact's: error relative to max(L, |exact|), and the decision
+/// (answer below threshold) when exact's answer is farther than the error bound from the
+/// threshold.
+void compare(long index, double got, double exact, double threshold, bool decision_got,
+             bool decision_exact, double L, double rel_bound, Report& r, const char* what) {
+  L = std::max(L, std::abs(exact));
+  const double err = std::abs(got - exact) / L;
+  r.max_rel_err = std::max(r.max_rel_err, err);
+  if (!(err <= rel_bound))
+    r.fail(index, std::string(what) + " error " + fmt(err) + " L (got " + fmt(got) + ", exact " +
+                      fmt(exact) + ")");
+  ++r.decisions;
+  r.positive += decision_exact;
+  if (std::abs(exact - threshold) <= rel_bound * L)
+    ++r.in_band;
+  else if (decision_got != decision_exact)
+    r.fail(index, std::string(what) + " decision differs (got " + fmt(got) + ", exact " +
+                      fmt(exact) + ", threshold " + fmt(threshold) + ")");
+}
+
+bool same_status(long index, LpStatus got, LpStatus exact, Report& r, const char* what) {
+  if (got == exact) return true;
+  r.fail(index, std::string(what) + " status " + slice::to_string(got) + ", exact " +
+                    slice::to_string(exact));
+  return false;
+}
+
+// ---- the four problems as case functions: case index -> block, plane, variant.
+
+constexpr std::uint64_t kSeed = 20150701;  // the paper's year and month, nothing more
+constexpr int kCasesPerBlock = 56;         // 7 plane kinds x polygon or not x 4 variants
+
+RandomBlock block_for(long block_index, bool with_vertices) {
+  Rng rng(mix(kSeed, static_cast<std::uint64_t>(block_index)));
+  const int n_faces = 5 + rng.index(16);  // 5..20 faces, +2 degenerate rows in 1 of 4
+  RandomBlock b = random_block(rng, n_faces, 1.0, rng.chance(0.25));
+  if (with_vertices) enumerate_vertices(b, 1.0);
+  return b;
+}
+
+CaseFn cut_cases(double rel_bound) {
+  return [rel_bound](long i, Workspace& ws, Report& r) {
+    // Cases come in runs of kCasesPerBlock on one block (vertex enumeration is the costly
+    // part): each thread keeps its last block.
+    thread_local long cached = -1;
+    thread_local RandomBlock block;
+    const long bi = i / kCasesPerBlock;
+    if (cached != bi) {
+      block = block_for(bi, true);
+      cached = bi;
+    }
+    const long j = i % kCasesPerBlock;
+    const Variant variant = kVariants[j % 4];
+    const PlaneKind kind = kKinds[(j / 4) % 7];
+    const bool polygon = j / 28 == 1;
+    Rng rng(mix(kSeed + 1, static_cast<std::uint64_t>(i / 4)));  // same plane for all variants
+    const Plane plane = random_plane(rng, block, kind, 1.0);
+    const std::vector<Plane> edges =
+        polygon ? random_polygon(rng, block, plane) : std::vector<Plane>{};
+
+    const double L = variant_scale(variant);
+    const auto tol = slice::Tolerances::from_scale(L, kRelTol);
+    const auto faces = present(block.faces, variant);
+    const Plane p = test::lp::present(plane, variant);
+    const auto e = test::lp::present(edges, variant);
+    const auto got = slice::cut_test(*ws.test, faces, p, e, tol);
+    const auto ex = slice::cut_test(*ws.exact, faces, p, e, tol);
+    ++r.cases;
+    const std::string what =
+        std::string("cut ") + to_string(kind) + (polygon ? " polygon " : " ") + to_string(variant);
+    if (!same_status(i, got.status, ex.status, r, what.c_str()) || got.status != LpStatus::optimal)
+      return;
+    compare(i, got.s, ex.s, -tol.cut, got.cuts, ex.cuts, L, rel_bound, r, what.c_str());
+  };
+}
+
+CaseFn redundancy_cases(double rel_bound) {
+  return [rel_bound](long i, Workspace& ws, Report& r) {
+    const RandomBlock block = block_for(i / 4 + 1'000'000, false);
+    const Variant variant = kVariants[i % 4];
+    Rng rng(mix(kSeed + 2, static_cast<std::uint64_t>(i / 4)));
+    const std::size_t index =
+        static_cast<std::size_t>(rng.index(static_cast<int>(block.faces.size())));
+    const double L = variant_scale(variant);
+    const auto tol = slice::Tolerances::from_scale(L, kRelTol);
+    const auto faces = present(block.faces, variant);
+    const auto got = slice::face_redundancy(*ws.test, faces, index, tol);
+    const auto ex = slice::face_redundancy(*ws.exact, faces, index, tol);
+    ++r.cases;
+    const std::string what = std::string("redundancy ") + to_string(variant);
+    if (!same_status(i, got.status, ex.status, r, what.c_str()) || got.status != LpStatus::optimal)
+      return;
+    // Redundant means value <= d + prune, i.e. "value below the threshold d + prune".
+    compare(i, got.value, ex.value, faces[index].d + tol.prune, got.redundant, ex.redundant, L,
+            rel_bound, r, what.c_str());
+  };
+}
+
+CaseFn extents_cases(double rel_bound) {
+  return [rel_bound](long i, Workspace& ws, Report& r) {
+    const RandomBlock block = block_for(i / 4 + 2'000'000, false);
+    const Variant variant = kVariants[i % 4];
+    const double L = variant_scale(variant);
+    const auto tol = slice::Tolerances::from_scale(L, kRelTol);
+    const auto faces = present(block.faces, variant);
+    const auto got = slice::extents(*ws.test, faces, tol);
+    const auto ex = slice::extents(*ws.exact, faces, tol);
+    ++r.cases;
+    const std::string what = std::string("extents ") + to_string(variant);
+    if (!same_status(i, got.status, ex.status, r, what.c_str()) || got.status != LpStatus::optimal)
+      return;
+    double err = std::max((got.min - ex.min).cwiseAbs().maxCoeff(),
+                          (got.max - ex.max).cwiseAbs().maxCoeff()) /
+                 L;
+    r.max_rel_err = std::max(r.max_rel_err, err);
+    if (!(err <= rel_bound)) r.fail(i, what + " error " + fmt(err) + " L");
+  };
+}
+
+CaseFn chebyshev_cases(double rel_bound) {
+  return [rel_bound](long i, Workspace& ws, Report& r) {
+    const RandomBlock block = block_for(i / 4 + 3'000'000, false);
+    const Variant variant = kVariants[i % 4];
+    const double L = variant_scale(variant);
+    const auto tol = slice::Tolerances::from_scale(L, kRelTol);
+    const auto faces = present(block.faces, variant);
+    const auto got = slice::chebyshev_ball(*ws.test, faces, tol);
+    const auto ex = slice::chebyshev_ball(*ws.exact, faces, tol);
+    ++r.cases;
+    const std::string what = std::string("chebyshev ") + to_string(variant);
+    if (!same_status(i, got.status, ex.status, r, what.c_str()) || got.status != LpStatus::optimal)
+      return;
+    // The block contains its generating sphere: the radius is at least that sphere's.
+    compare(i, got.radius, ex.radius, tol.geometry, got.radius <= tol.geometry,
+            ex.radius <= tol.geometry, L, rel_bound, r, what.c_str());
+  };
+}
+
+}  // namespace
+
+// 100,000+ cases per problem: 25,000+ base cases, each also at a 1e6 m offset and scaled by
+// 1e-3 and 1e3 (the four variants count as four cases).
+TEST_CASE("native agrees with exact: cut tests", "[property][lp][cut]") {
+  const long n = 1786L * kCasesPerBlock;  // 100,016 cases on 1786 blocks
+  check_report(
+      run_cases(n, LpBackend::native, worker_threads(LpBackend::native), cut_cases(kNativeRelErr)),
+      n, "native cut tests");
+}
+
+TEST_CASE("native agrees with exact: redundant faces", "[property][lp][prune]") {
+  const long n = 100'000;
+  check_report(run_cases(n, LpBackend::native, worker_threads(LpBackend::native),
+                         redundancy_cases(kNativeRelErr)),
+               n, "native face redundancy");
+}
+
+TEST_CASE("native agrees with exact: extents", "[property][lp][extents]") {
+  const long n = 100'000;  // 600,000 LPs
+  check_report(run_cases(n, LpBackend::native, worker_threads(LpBackend::native),
+                         extents_cases(kNativeRelErr)),
+               n, "native extents");
+}
+
+TEST_CASE("native agrees with exact: Chebyshev balls", "[property][lp][chebyshev]") {
+  const long n = 100'000;
+  check_report(run_cases(n, LpBackend::native, worker_threads(LpBackend::native),
+                         chebyshev_cases(kNativeRelErr)),
+               n, "native Chebyshev balls");
+}
+
+// ipopt takes milliseconds per LP: fewer cases, the same generators.
+TEST_CASE("ipopt agrees with exact outside a wider band", "[property][lp][ipopt]") {
+  const int threads = worker_threads(LpBackend::ipopt);
+  SECTION("cut tests: 2,016 cases") {
+    const long n = 36L * kCasesPerBlock;
+    check_report(run_cases(n, LpBackend::ipopt, threads, cut_cases(kIpoptRelErr)), n,
+                 "ipopt cut tests");
+  }
+  SECTION("redundant faces: 2,000 cases") {
+    check_report(run_cases(2000, LpBackend::ipopt, threads, redundancy_cases(kIpoptRelErr)), 2000,
+                 "ipopt face redundancy");
+  }
+  SECTION("extents: 400 cases (2,400 LPs)") {
+    check_report(run_cases(400, LpBackend::ipopt, threads, extents_cases(kIpoptRelErr)), 400,
+                 "ipopt extents");
+  }
+  SECTION("Chebyshev balls: 2,000 cases") {
+    check_report(run_cases(2000, LpBackend::ipopt, threads, chebyshev_cases(kIpoptRelErr)), 2000,
+                 "ipopt Chebyshev balls");
+  }
+}
