@@ -91,8 +91,8 @@ Vec3 dip_vector(double dip_deg, double dip_direction_deg) {
   return strike_vector(dip_direction_deg).cross(normal_from_dip(dip_deg, dip_direction_deg));
 }
 
-PlaneFrame plane_frame(double dip_deg, double dip_direction_deg) {
-  PlaneFrame f;
+JointFrame plane_frame(double dip_deg, double dip_direction_deg) {
+  JointFrame f;
   f.n = normal_from_dip(dip_deg, dip_direction_deg);
   f.u = strike_vector(dip_direction_deg);
   f.v = f.n.cross(f.u);

@@ -538,7 +538,7 @@ Joint read_joint(const Context& cx, const toml::table& tt, std::size_t index) {
   j.friction_angle_deg = c.friction;
   j.cohesion = c.cohesion;
   j.boundary_side = c.side;
-  const PlaneFrame frame = plane_frame(c.dip, c.dip_direction);
+  const JointFrame frame = plane_frame(c.dip, c.dip_direction);
   const toml::node* point = t.find("point");
   const toml::node* poly = t.find("polygon");
   const toml::node* poly_uv = t.find("polygon_uv");

@@ -73,7 +73,7 @@ std::map<JointKind, int> count_by_kind(const std::vector<slice::Joint>& joints) 
 
 // The global corners of a joint's polygon.
 std::vector<Vec3> polygon_global(const slice::Joint& j) {
-  const slice::PlaneFrame f = slice::plane_frame(j.dip_deg, j.dip_direction_deg);
+  const slice::JointFrame f = slice::plane_frame(j.dip_deg, j.dip_direction_deg);
   std::vector<Vec3> out;
   for (const auto& uv : j.polygon_uv) out.push_back(f.to_global(j.centre, uv));
   return out;

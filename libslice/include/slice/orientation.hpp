@@ -30,7 +30,7 @@ Vec3 dip_vector(double dip_deg, double dip_direction_deg);
 /// The local frame of a joint polygon: u along strike, v = n x strike (along the dip line,
 /// pointing up dip), n the upward normal; (u, v, n) is right-handed, so a polygon listed
 /// counter-clockwise in (u, v) is counter-clockwise seen from above.
-struct PlaneFrame {
+struct JointFrame {
   Vec3 u, v, n;
   Vec3 to_global(const Vec3& origin, const Vec2& uv) const {
     return origin + uv.x() * u + uv.y() * v;
@@ -39,7 +39,7 @@ struct PlaneFrame {
     return {u.dot(x - origin), v.dot(x - origin)};
   }
 };
-PlaneFrame plane_frame(double dip_deg, double dip_direction_deg);
+JointFrame plane_frame(double dip_deg, double dip_direction_deg);
 
 /// The paper's pole in the Priest frame (x North, y East, z Down):
 /// N = (cos b cos a, sin b cos a, sin a), a = 90 - dip, b = dip direction - 180 (eq. 1-2).

@@ -1,0 +1,63 @@
+#pragma once
+// Sequential subdivision (Boon et al. 2015, sections 2.1-2.7; DESIGN section 4): joints.h5 in,
+// blocks out. A block is only its half-spaces; every decision is one small LP (lp.hpp).
+#include <cstddef>
+
+#include "slice/h5io.hpp"
+#include "slice/lp.hpp"
+#include "slice/progress.hpp"
+
+namespace slice {
+
+struct CutOptions {
+  LpBackend backend = LpBackend::native;
+  /// Bounding spheres and a uniform grid decide which blocks a joint may reach (eq. 17).
+  /// false tests every block with the cut LP: slower, same result; for tests and benchmarks.
+  bool use_index = true;
+};
+
+/// LPs solved, by kind.
+struct LpCounts {
+  std::size_t cut_test = 0;    // eq. 7 / 16
+  std::size_t extents = 0;     // eq. 17, six LPs each
+  std::size_t chebyshev = 0;   // eq. 18
+  std::size_t redundancy = 0;  // eq. 8
+  std::size_t contact = 0;     // construction-face contacts (a cut-test LP on the shared plane)
+  std::size_t failed = 0;      // LPs the backend gave up on (treated as "no cut")
+  std::size_t total() const { return cut_test + extents + chebyshev + redundancy + contact; }
+};
+
+struct CutStats {
+  std::size_t joints = 0;
+  std::size_t joints_missing = 0;  // joints that cut no block (e.g. outside the domain)
+  std::size_t blocks = 0;
+  std::size_t splits = 0;
+  std::size_t splits_undone = 0;  // a child broke the size or shape limit: parent kept
+  std::size_t pairs_skipped = 0;  // joint-block pairs the spheres and the grid ruled out
+  std::size_t boundary = 0, removed = 0, clusters = 0;
+  LpCounts lps;
+  double seconds_cut = 0;     // the sequential subdivision
+  double seconds_finish = 0;  // Chebyshev centres, zones, clusters
+};
+
+struct CutResult {
+  BlockSystem blocks;
+  CutStats stats;
+};
+
+/// Cuts the domain of `js` by its joints in file order. The blocks come out with their origin
+/// at their Chebyshev centre, inradius and bounding sphere set, flags (boundary, removed) and
+/// cluster ids (construction joints) computed. Not pruned: see prune_blocks.
+CutResult cut_blocks(const JointSystem& js, const CutOptions& opt, const Progress& progress = {});
+
+struct PruneStats {
+  std::size_t faces_before = 0, faces_after = 0;
+  std::size_t lps = 0, failed = 0;
+  double seconds = 0;
+};
+
+/// Drops every face of every block that no longer touches it (eq. 8), one LP per face against
+/// the faces kept so far; sets bs.pruned.
+PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& progress = {});
+
+}  // namespace slice

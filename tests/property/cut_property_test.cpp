@@ -1,0 +1,131 @@
+// Slicing invariants on the examples and on random scenes (fixed seeds).
+#include <catch2/catch.hpp>
+#include <random>
+#include <sstream>
+
+#include "slice/cut.hpp"
+#include "slice/scene.hpp"
+#include "support/blocks_check.hpp"
+#include "support/support.hpp"
+
+using slice::Vec3;
+
+namespace {
+
+slice::BlockSystem slice_all(const slice::JointSystem& js, bool use_index = true) {
+  slice::CutOptions opt;
+  opt.use_index = use_index;
+  auto r = slice::cut_blocks(js, opt);
+  slice::prune_blocks(r.blocks, opt.backend);
+  return std::move(r.blocks);
+}
+
+/// A random scene: a box, persistent and polygon joints of random orientation.
+std::string random_scene(std::uint64_t seed, const Vec3& shift, double scale) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u01(0, 1);
+  std::ostringstream s;
+  s.precision(17);
+  const Vec3 lo = shift, hi = shift + scale * Vec3(4, 3, 2);
+  s << "[domain]\nbox = { min = [" << lo.x() << ", " << lo.y() << ", " << lo.z() << "], max = ["
+    << hi.x() << ", " << hi.y() << ", " << hi.z() << "] }\n";
+  const int joints = 6 + int(seed % 7);
+  for (int j = 0; j < joints; ++j) {
+    const double dip = 90 * u01(rng), dd = 359.9 * u01(rng);
+    const Vec3 p = shift + scale * Vec3(4 * u01(rng), 3 * u01(rng), 2 * u01(rng));
+    s << "[[joints]]\ndip = " << dip << "\ndip_direction = " << dd << "\npoint = [" << p.x() << ", "
+      << p.y() << ", " << p.z() << "]\n";
+    if (u01(rng) < 0.5) {  // a square polygon in its own plane, 1 to 3 units across
+      const double h = scale * (0.5 + u01(rng));
+      s << "polygon_uv = [[" << -h << ", " << -h << "], [" << h << ", " << -h << "], [" << h << ", "
+        << h << "], [" << -h << ", " << h << "]]\n";
+    }
+  }
+  return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("invariants hold on the example scenes", "[property][cut]") {
+  for (const char* name : {"cube-3sets.toml", "rock-slope.toml"}) {
+    CAPTURE(name);
+    const auto js = slice::generate_joints(slice::load_scene(test::data_path(name)));
+    test::check_invariants(slice_all(js), 100000, 7);
+  }
+}
+
+TEST_CASE("invariants hold on random scenes", "[property][cut]") {
+  const auto seed = GENERATE(range(1u, 31u));
+  CAPTURE(seed);
+  const auto js = slice::generate_joints(
+      slice::parse_scene(random_scene(seed, Vec3::Zero(), 1.0), "random.toml"));
+  const auto bs = slice_all(js);
+  test::check_invariants(bs, 20000, seed);
+}
+
+TEST_CASE("results do not depend on a 1e6 m offset or on units", "[property][cut]") {
+  const auto seed = GENERATE(range(1u, 11u));
+  CAPTURE(seed);
+  const auto base = slice_all(
+      slice::generate_joints(slice::parse_scene(random_scene(seed, Vec3::Zero(), 1.0), "a.toml")));
+  const Vec3 shift(5e5, 5e6, 300);
+  const auto moved = slice_all(
+      slice::generate_joints(slice::parse_scene(random_scene(seed, shift, 1.0), "b.toml")));
+  const auto mm = slice_all(slice::generate_joints(
+      slice::parse_scene(random_scene(seed, Vec3::Zero(), 1000.0), "c.toml")));
+  REQUIRE(moved.blocks.size() == base.blocks.size());
+  REQUIRE(mm.blocks.size() == base.blocks.size());
+  for (std::size_t i = 0; i < base.blocks.size(); ++i) {
+    CAPTURE(i);
+    const auto& a = base.blocks[i];
+    CHECK(moved.blocks[i].faces.size() == a.faces.size());
+    CHECK(mm.blocks[i].faces.size() == a.faces.size());
+    CHECK_THAT(moved.blocks[i].origin.x() - shift.x(),
+               Catch::Matchers::WithinAbs(a.origin.x(), 1e-6));
+    CHECK_THAT(moved.blocks[i].origin.y() - shift.y(),
+               Catch::Matchers::WithinAbs(a.origin.y(), 1e-6));
+    CHECK_THAT(moved.blocks[i].inradius, Catch::Matchers::WithinRel(a.inradius, 1e-6));
+    CHECK_THAT(mm.blocks[i].inradius, Catch::Matchers::WithinRel(1000 * a.inradius, 1e-9));
+  }
+}
+
+TEST_CASE("the grid index changes nothing but the work", "[property][cut]") {
+  const auto seed = GENERATE(range(1u, 11u));
+  CAPTURE(seed);
+  const auto js = slice::generate_joints(
+      slice::parse_scene(random_scene(seed, Vec3::Zero(), 1.0), "random.toml"));
+  const auto a = slice_all(js, true), b = slice_all(js, false);
+  REQUIRE(a.blocks.size() == b.blocks.size());
+  for (std::size_t i = 0; i < a.blocks.size(); ++i) {
+    CHECK(a.blocks[i].origin == b.blocks[i].origin);
+    CHECK(a.blocks[i].faces.size() == b.blocks[i].faces.size());
+  }
+}
+
+TEST_CASE("the paper's Table 3 scene gives the reference block counts", "[property][cut][table3]") {
+  // reference/table3-block-counts.md: counted by one LP per cell, independent of the slicer.
+  struct Case {
+    double spacing;
+    std::size_t joints, blocks;
+  };
+  const auto c = GENERATE(Case{10.0, 38, 1334}, Case{5.8, 67, 5926}, Case{4.6, 84, 11360},
+                          Case{3.7, 103, 21108});
+  CAPTURE(c.spacing);
+  std::string text = test::read_bytes(test::data_path("table3-persistent.toml"));
+  const auto pos = text.find("spacing = 3.7");
+  REQUIRE(pos != std::string::npos);
+  std::string replaced = text;
+  std::size_t at = 0;
+  while ((at = replaced.find("spacing = 3.7", at)) != std::string::npos)
+    replaced.replace(at, 13, "spacing = " + std::to_string(c.spacing)), at += 10;
+  const auto js = slice::generate_joints(slice::parse_scene(replaced, "table3.toml"));
+  REQUIRE(js.joints.size() == c.joints);
+  slice::CutOptions opt;
+  const auto r = slice::cut_blocks(js, opt);
+  CHECK(r.blocks.blocks.size() == c.blocks);
+  double volume = 0;
+  auto pruned = r.blocks;
+  slice::prune_blocks(pruned, opt.backend);
+  for (const auto& b : pruned.blocks) volume += test::block_volume(b, 1e-9 * js.length_scale);
+  CHECK_THAT(volume, Catch::Matchers::WithinRel(1e6, 1e-9));
+}

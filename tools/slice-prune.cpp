@@ -1,0 +1,27 @@
+// slice-prune: drop the faces that no longer touch their block (paper eq. 8).
+#include <cstdio>
+#include <string>
+
+#include "common/tool.hpp"
+#include "slice/cut.hpp"
+#include "slice/h5io.hpp"
+
+int main(int argc, char** argv) {
+  tool::Tool t{"slice-prune", "Drop redundant faces from every block of a blocks.h5 file."};
+  std::string in, out, backend = "native";
+  t.cli.add_option("blocks", in, "blocks.h5 from slice-cut")->required();
+  t.cli.add_option("-o,--output", out, "output file (default: replace the input)");
+  t.cli.add_option("--lp", backend, "LP backend: native | ipopt | exact")->capture_default_str();
+  return t.run(argc, argv, [&] {
+    const auto lp = slice::parse_lp_backend(backend);
+    slice::BlockSystem bs = slice::read_blocks(in);
+    const slice::PruneStats s = slice::prune_blocks(bs, lp, t.progress());
+    const std::string target = out.empty() ? in : out;
+    slice::write_blocks(target, bs, t.provenance(in));
+    char secs[32];
+    std::snprintf(secs, sizeof secs, "%.3f", s.seconds);
+    t.say(std::to_string(bs.blocks.size()) + " blocks: faces " + std::to_string(s.faces_before) +
+          " -> " + std::to_string(s.faces_after) + " (" + std::to_string(s.lps) + " LPs, " +
+          std::to_string(s.failed) + " failed, " + secs + " s) -> " + target);
+  });
+}
