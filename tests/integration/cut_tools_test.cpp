@@ -1,0 +1,148 @@
+// slice-cut and slice-prune on real files.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "slice/h5io.hpp"
+#include "support/support.hpp"
+
+using test::run_tool;
+
+namespace {
+
+/// joints.h5 of a data/ scene in tmp.
+std::string joints_of(const test::TempDir& tmp, const std::string& scene) {
+  const std::string out = (tmp / "joints.h5").string();
+  const auto r = run_tool("slice-joints", {test::data_path(scene).string(), "-o", out});
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("slice-cut and slice-prune answer --help and --version", "[tools][cut]") {
+  for (const char* t : {"slice-cut", "slice-prune"}) {
+    CAPTURE(t);
+    CHECK(run_tool(t, {"--help"}).exit_code == 0);
+    CHECK_THAT(run_tool(t, {"--version"}).out, Catch::Contains("rockslice"));
+  }
+}
+
+TEST_CASE("slice-cut | slice-prune on cube-3sets: 1000 blocks of 6 faces", "[tools][cut]") {
+  test::TempDir tmp;
+  const auto joints = joints_of(tmp, "cube-3sets.toml");
+  const auto blocks = (tmp / "blocks.h5").string(), pruned = (tmp / "pruned.h5").string();
+  const auto cut = run_tool("slice-cut", {joints, "-o", blocks});
+  INFO(cut.err);
+  REQUIRE(cut.exit_code == 0);
+  CHECK_THAT(cut.err, Catch::Contains("1000 blocks"));
+  CHECK_THAT(cut.err, Catch::Contains("cut tests"));
+  CHECK_THAT(cut.err, Catch::Contains("time: cut"));
+  CHECK(cut.err.find('\r') == std::string::npos);  // no progress bar when stderr is a file
+  REQUIRE(run_tool("slice-prune", {blocks, "-o", pruned}).exit_code == 0);
+  const auto bs = slice::read_blocks(pruned);
+  CHECK(bs.pruned);
+  REQUIRE(bs.blocks.size() == 1000);
+  for (const auto& b : bs.blocks) CHECK(b.faces.size() == 6);
+  CHECK(bs.joints.joints.size() == 27);  // blocks.h5 carries the joints
+
+  const auto info = run_tool("slice-info", {pruned, "--json"});
+  REQUIRE(info.exit_code == 0);
+  const auto j = nlohmann::json::parse(info.out);
+  CHECK(j["kind"] == "blocks");
+  CHECK(j["blocks"]["total"] == 1000);
+  CHECK(j["blocks"]["faces"] == 6000);
+  CHECK(j["blocks"]["pruned"] == true);
+  CHECK(j["provenance"]["tool"] == "slice-prune");
+}
+
+TEST_CASE("slice-cut --prune equals slice-cut then slice-prune, and reruns are identical",
+          "[tools][cut]") {
+  test::TempDir tmp;
+  const auto joints = joints_of(tmp, "rock-slope.toml");
+  const auto a = (tmp / "a.h5").string(), b = (tmp / "b.h5").string();
+  REQUIRE(run_tool("slice-cut", {joints, "-o", a, "--prune"}).exit_code == 0);
+  const std::string first = test::read_bytes(a);
+  REQUIRE(run_tool("slice-cut", {joints, "-o", a, "--prune"}).exit_code == 0);
+  CHECK(test::read_bytes(a) == first);
+  REQUIRE(run_tool("slice-cut", {joints, "-o", b}).exit_code == 0);
+  REQUIRE(run_tool("slice-prune", {b}).exit_code == 0);  // in place
+  const auto x = slice::read_blocks(a), y = slice::read_blocks(b);
+  REQUIRE(x.blocks.size() == y.blocks.size());
+  for (std::size_t i = 0; i < x.blocks.size(); ++i) {
+    CHECK(x.blocks[i].faces.size() == y.blocks[i].faces.size());
+    CHECK(x.blocks[i].flags == y.blocks[i].flags);
+    CHECK(x.blocks[i].cluster == y.blocks[i].cluster);
+  }
+}
+
+TEST_CASE("the rock slope has boundary, removed and clustered blocks", "[tools][cut]") {
+  test::TempDir tmp;
+  const auto joints = joints_of(tmp, "rock-slope.toml");
+  const auto out = (tmp / "b.h5").string();
+  REQUIRE(run_tool("slice-cut", {joints, "-o", out, "--prune"}).exit_code == 0);
+  const auto bs = slice::read_blocks(out);
+  std::size_t boundary = 0, removed = 0, clustered = 0;
+  for (const auto& b : bs.blocks) {
+    if (b.flags & slice::kBoundary) {
+      ++boundary;
+      CHECK(b.origin.z() < 2);  // below the boundary joint z = 2
+    }
+    if (b.flags & slice::kRemoved) {
+      ++removed;  // the gallery: 4 < x < 10, 6 < z < 14
+      CHECK(b.origin.x() > 4);
+      CHECK(b.origin.x() < 10);
+      CHECK(b.origin.z() > 6);
+      CHECK(b.origin.z() < 14);
+    }
+    clustered += b.cluster >= 0 ? 1 : 0;
+  }
+  CHECK(boundary >= 1);
+  CHECK(removed >= 1);
+  CHECK(clustered >= 2);
+}
+
+TEST_CASE("slice-cut every backend gives the same blocks on cube-3sets", "[tools][cut][lp]") {
+  test::TempDir tmp;
+  const auto joints = joints_of(tmp, "cube-3sets.toml");
+  for (const char* lp : {"native", "exact", "ipopt"}) {
+    CAPTURE(lp);
+    const auto out = (tmp / (std::string(lp) + ".h5")).string();
+    const auto r = run_tool("slice-cut", {joints, "-o", out, "--lp", lp, "--prune"});
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const auto bs = slice::read_blocks(out);
+    CHECK(bs.blocks.size() == 1000);
+    for (const auto& b : bs.blocks) CHECK(b.faces.size() == 6);
+  }
+}
+
+TEST_CASE("slice-cut and slice-prune refuse bad input with exit 1, writing nothing",
+          "[tools][cut]") {
+  test::TempDir tmp;
+  const auto joints = joints_of(tmp, "cube-3sets.toml");
+  const auto out = (tmp / "b.h5").string();
+  SECTION("a joints file given to slice-prune") {
+    const auto r = run_tool("slice-prune", {joints, "-o", out});
+    CHECK(r.exit_code == 1);
+    CHECK_THAT(r.err, Catch::Contains("joints.h5"));
+    CHECK_FALSE(test::fs::exists(out));
+  }
+  SECTION("a missing input") {
+    const auto r = run_tool("slice-cut", {(tmp / "none.h5").string(), "-o", out});
+    CHECK(r.exit_code == 1);
+    CHECK_THAT(r.err, Catch::Contains("none.h5"));
+    CHECK_FALSE(test::fs::exists(out));
+  }
+  SECTION("an unknown LP backend") {
+    const auto r = run_tool("slice-cut", {joints, "-o", out, "--lp", "simplex"});
+    CHECK(r.exit_code == 1);
+    CHECK_THAT(r.err, Catch::Contains("simplex"));
+    CHECK_FALSE(test::fs::exists(out));
+  }
+  SECTION("a scene file given to slice-cut") {
+    const auto r = run_tool("slice-cut", {test::data_path("cube-3sets.toml").string(), "-o", out});
+    CHECK(r.exit_code == 1);
+    CHECK_FALSE(test::fs::exists(out));
+  }
+}
