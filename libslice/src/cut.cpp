@@ -151,8 +151,8 @@ class Cutter {
   }
 
   void rebuild_grid() {
-    // About one block per cell, at most 2^18 cells; rebuilt as the blocks multiply, which
-    // also drops the stale registrations of split blocks.
+    // The finest level has about two cells per block, at most 2^18 cells; rebuilt (one entry
+    // per block) as the blocks multiply.
     const std::size_t cells = std::clamp<std::size_t>(blocks_.size() * 2, 64, std::size_t(1) << 18);
     grid_.reset(domain_lo_, domain_hi_, cells);
     for (std::size_t i = 0; i < blocks_.size(); ++i) grid_.insert(i, blocks_[i].bsphere);
@@ -257,9 +257,12 @@ class Cutter {
       (joint.boundary_side > 0 ? above : below).flags |= kBoundary;
     }
     ++stats_.splits;
-    blocks_[i] = std::move(below);  // its sphere lies inside the parent's: the grid stays valid
+    blocks_[i] = std::move(below);
     blocks_.push_back(std::move(above));
-    if (opt_.use_index) grid_.insert(blocks_.size() - 1, blocks_.back().bsphere);
+    if (opt_.use_index) {
+      grid_.update(i, blocks_[i].bsphere);
+      grid_.insert(blocks_.size() - 1, blocks_.back().bsphere);
+    }
     return true;
   }
 

@@ -1,9 +1,12 @@
 #pragma once
-// A uniform grid over bounding spheres: which blocks may a plane or a box reach? Each block is
-// listed in every cell its sphere's bounding box overlaps; queries visit the cells a plane or
-// box passes through, so a joint meets the blocks near it, not all of them (paper Fig. 20:
-// cost linear in the number of blocks). Visits may repeat a block and include blocks the
-// plane misses: callers deduplicate and test spheres exactly.
+// A loose multi-level grid over bounding spheres: which blocks may a plane or a box reach?
+// Level l has cubic cells of size h_l = h_0 2^l; a sphere of radius R is stored once, in the
+// cell of its centre on the finest level with R <= h_l / 2, so it lies inside that cell grown
+// by h_l / 2 on every side (its "loose" cell). A query visits, on every level, the cells whose
+// loose box meets the plane or box. One entry per block whatever its size, so memory stays
+// linear even while early, large blocks span the domain; a joint meets the blocks near it,
+// not all of them (paper Fig. 20: cost linear in the number of blocks). Visits include
+// blocks the plane misses: callers test spheres exactly.
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
@@ -17,87 +20,135 @@ namespace slice {
 
 class SphereGrid {
  public:
-  /// An empty grid over the box [lo, hi] with about `cells` cubic cells.
+  /// An empty grid over the box [lo, hi] whose finest level has about `cells` cells.
   void reset(const Vec3& lo, const Vec3& hi, std::size_t cells) {
     lo_ = lo;
     const Vec3 size = (hi - lo).cwiseMax(1e-300);
-    h_ = std::cbrt(size.prod() / double(std::max<std::size_t>(cells, 1)));
-    h_ = std::max(h_, size.maxCoeff() / 1024);  // at most 1024 cells along an axis
-    for (int k = 0; k < 3; ++k) n_[k] = std::max(1, int(std::ceil(size[k] / h_)));
-    cells_.assign(std::size_t(n_[0]) * std::size_t(n_[1]) * std::size_t(n_[2]), {});
+    double h = std::cbrt(size.prod() / double(std::max<std::size_t>(cells, 1)));
+    h = std::max(h, size.maxCoeff() / 1024);  // at most 1024 cells along an axis
+    levels_.clear();
+    // Coarser levels until one cell holds any sphere of the domain (R <= half its diagonal).
+    const double needed = size.norm();
+    for (;; h *= 2) {
+      Level l;
+      l.h = h;
+      for (int k = 0; k < 3; ++k) l.n[k] = std::max(1, int(std::ceil(size[k] / h)));
+      l.cells.assign(std::size_t(l.n[0]) * std::size_t(l.n[1]) * std::size_t(l.n[2]), {});
+      levels_.push_back(std::move(l));
+      if (h >= needed) break;
+    }
+    where_.clear();
   }
 
   void insert(std::size_t id, const Eigen::Vector4d& sphere) {
-    std::array<int, 3> a{}, b{};
-    const Vec3 c = sphere.head<3>();
-    for (int k = 0; k < 3; ++k) {
-      a[k] = index(k, c[k] - sphere[3]);
-      b[k] = index(k, c[k] + sphere[3]);
-    }
-    for (int i = a[0]; i <= b[0]; ++i)
-      for (int j = a[1]; j <= b[1]; ++j)
-        for (int k = a[2]; k <= b[2]; ++k) cells_[cell(i, j, k)].push_back(std::uint32_t(id));
+    std::size_t lev = 0;
+    while (lev + 1 < levels_.size() && sphere[3] > levels_[lev].h / 2) ++lev;
+    Level& l = levels_[lev];
+    std::array<int, 3> c{};
+    for (int k = 0; k < 3; ++k) c[k] = l.index(k, sphere[k] - lo_[k]);
+    const std::size_t cell = l.cell(c[0], c[1], c[2]);
+    l.cells[cell].push_back(std::uint32_t(id));
+    if (where_.size() <= id) where_.resize(id + 1, {kNone, 0});
+    where_[id] = {std::uint32_t(lev), std::uint32_t(cell)};
   }
 
-  /// Visits the blocks of every cell the plane normal . x = d passes through.
+  /// Moves a block whose sphere changed.
+  void update(std::size_t id, const Eigen::Vector4d& sphere) {
+    erase(id);
+    insert(id, sphere);
+  }
+
+  /// Visits the blocks stored in every loose cell the plane normal . x = d passes through.
   template <typename Visit>
   void visit_plane(const Plane& p, Visit&& visit) const {
     int k = 0;  // the axis the normal is most aligned with: solve the plane for it
     for (int a = 1; a < 3; ++a)
       if (std::abs(p.normal[a]) > std::abs(p.normal[k])) k = a;
     const int a = (k + 1) % 3, b = (k + 2) % 3;
-    std::array<int, 3> idx{};
-    for (int i = 0; i < n_[a]; ++i) {
-      for (int j = 0; j < n_[b]; ++j) {
-        // The plane's range along k over the column's four corners.
-        double tmin = INFINITY, tmax = -INFINITY;
-        for (int ci = 0; ci < 2; ++ci)
-          for (int cj = 0; cj < 2; ++cj) {
-            const double x = lo_[a] + (i + ci) * h_, y = lo_[b] + (j + cj) * h_;
-            const double t = (p.d - p.normal[a] * x - p.normal[b] * y) / p.normal[k];
-            tmin = std::min(tmin, t);
-            tmax = std::max(tmax, t);
+    for (const Level& l : levels_) {
+      const double m = l.h / 2;  // loose margin
+      std::array<int, 3> idx{};
+      for (int i = 0; i < l.n[a]; ++i) {
+        for (int j = 0; j < l.n[b]; ++j) {
+          // The plane's range along k over the loose column's four corners.
+          double tmin = INFINITY, tmax = -INFINITY;
+          for (int ci = 0; ci < 2; ++ci)
+            for (int cj = 0; cj < 2; ++cj) {
+              const double x = lo_[a] + (i + ci) * l.h + (ci ? m : -m);
+              const double y = lo_[b] + (j + cj) * l.h + (cj ? m : -m);
+              const double t = (p.d - p.normal[a] * x - p.normal[b] * y) / p.normal[k];
+              tmin = std::min(tmin, t);
+              tmax = std::max(tmax, t);
+            }
+          tmin -= lo_[k] + m;
+          tmax -= lo_[k] - m;
+          if (tmax < 0 || tmin > l.n[k] * l.h) continue;
+          idx[a] = i;
+          idx[b] = j;
+          const int k1 = l.index(k, tmax);
+          for (int c = l.index(k, tmin); c <= k1; ++c) {
+            idx[k] = c;
+            for (const std::uint32_t id : l.cells[l.cell(idx[0], idx[1], idx[2])]) visit(id);
           }
-        if (tmax < lo_[k] || tmin > lo_[k] + n_[k] * h_) continue;
-        const int k0 = index(k, tmin), k1 = index(k, tmax);
-        idx[a] = i;
-        idx[b] = j;
-        for (int m = k0; m <= k1; ++m) {
-          idx[k] = m;
-          for (const std::uint32_t id : cells_[cell(idx[0], idx[1], idx[2])]) visit(id);
         }
       }
     }
   }
 
-  /// Visits the blocks of every cell the box [lo, hi] overlaps.
+  /// Visits the blocks stored in every loose cell the box [lo, hi] overlaps.
   template <typename Visit>
   void visit_box(const Vec3& lo, const Vec3& hi, Visit&& visit) const {
-    std::array<int, 3> a{}, b{};
-    for (int k = 0; k < 3; ++k) {
-      if (hi[k] < lo_[k] || lo[k] > lo_[k] + n_[k] * h_) return;
-      a[k] = index(k, lo[k]);
-      b[k] = index(k, hi[k]);
+    for (const Level& l : levels_) {
+      const double m = l.h / 2;
+      std::array<int, 3> a{}, b{};
+      bool outside = false;
+      for (int k = 0; k < 3; ++k) {
+        const double x0 = lo[k] - lo_[k] - m, x1 = hi[k] - lo_[k] + m;
+        if (x1 < 0 || x0 > l.n[k] * l.h) outside = true;
+        a[k] = l.index(k, x0);
+        b[k] = l.index(k, x1);
+      }
+      if (outside) continue;
+      for (int i = a[0]; i <= b[0]; ++i)
+        for (int j = a[1]; j <= b[1]; ++j)
+          for (int k = a[2]; k <= b[2]; ++k)
+            for (const std::uint32_t id : l.cells[l.cell(i, j, k)]) visit(id);
     }
-    for (int i = a[0]; i <= b[0]; ++i)
-      for (int j = a[1]; j <= b[1]; ++j)
-        for (int k = a[2]; k <= b[2]; ++k)
-          for (const std::uint32_t id : cells_[cell(i, j, k)]) visit(id);
   }
 
  private:
-  Vec3 lo_ = Vec3::Zero();
-  double h_ = 1;
-  std::array<int, 3> n_{1, 1, 1};
-  std::vector<std::vector<std::uint32_t>> cells_;
+  static constexpr std::uint32_t kNone = ~std::uint32_t(0);
 
-  int index(int axis, double x) const {
-    const double t = std::floor((x - lo_[axis]) / h_);
-    return int(std::clamp(t, 0.0, double(n_[axis] - 1)));
-  }
-  std::size_t cell(int i, int j, int k) const {
-    return (std::size_t(i) * std::size_t(n_[1]) + std::size_t(j)) * std::size_t(n_[2]) +
-           std::size_t(k);
+  struct Level {
+    double h = 1;
+    std::array<int, 3> n{1, 1, 1};
+    std::vector<std::vector<std::uint32_t>> cells;
+    /// The cell index along `axis` of the offset x from the grid's corner, clamped.
+    int index(int axis, double x) const {
+      return int(std::clamp(std::floor(x / h), 0.0, double(n[axis] - 1)));
+    }
+    std::size_t cell(int i, int j, int k) const {
+      return (std::size_t(i) * std::size_t(n[1]) + std::size_t(j)) * std::size_t(n[2]) +
+             std::size_t(k);
+    }
+  };
+  struct Where {
+    std::uint32_t level, cell;
+  };
+
+  Vec3 lo_ = Vec3::Zero();
+  std::vector<Level> levels_;
+  std::vector<Where> where_;  // by block id
+
+  void erase(std::size_t id) {
+    if (id >= where_.size() || where_[id].level == kNone) return;
+    auto& v = levels_[where_[id].level].cells[where_[id].cell];
+    const auto it = std::find(v.begin(), v.end(), std::uint32_t(id));
+    if (it != v.end()) {
+      *it = v.back();
+      v.pop_back();
+    }
+    where_[id].level = kNone;
   }
 };
 
