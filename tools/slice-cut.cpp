@@ -1,9 +1,12 @@
 // slice-cut: joints.h5 -> blocks.h5 by sequential subdivision (DESIGN section 4).
 #include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "common/tool.hpp"
 #include "slice/cut.hpp"
+#include "slice/error.hpp"
 #include "slice/h5io.hpp"
 
 namespace {
@@ -18,6 +21,7 @@ int main(int argc, char** argv) {
   tool::Tool t{"slice-cut",
                "Cut the domain of a joints.h5 file into convex blocks, one LP per decision."};
   std::string in, out = "blocks.h5", backend = "native";
+  std::string stats_file;
   bool prune = false, no_index = false;
   t.cli.add_option("joints", in, "joints.h5 from slice-joints")->required();
   t.cli.add_option("-o,--output", out, "output file")->capture_default_str();
@@ -25,6 +29,7 @@ int main(int argc, char** argv) {
   t.cli.add_flag("--prune", prune, "also drop redundant faces (as slice-prune does)");
   t.cli.add_flag("--no-index", no_index,
                  "test every block against every joint (no bounding spheres or grid)");
+  t.cli.add_option("--stats", stats_file, "also write the run's figures as JSON to this file");
   return t.run(argc, argv, [&] {
     tool::check_output_differs(in, out);
     slice::CutOptions opt;
@@ -36,6 +41,29 @@ int main(int argc, char** argv) {
     slice::PruneStats ps;
     if (prune) ps = slice::prune_blocks(r.blocks, opt.backend, t.progress());
     slice::write_blocks(out, r.blocks, t.provenance(in));
+    if (!stats_file.empty()) {
+      std::size_t faces = 0;
+      for (const auto& b : r.blocks.blocks) faces += b.faces.size();
+      const nlohmann::ordered_json j = {{"joints", s.joints},
+                                        {"blocks", s.blocks},
+                                        {"splits", s.splits},
+                                        {"splits_undone", s.splits_undone},
+                                        {"pairs_skipped", s.pairs_skipped},
+                                        {"lps_cut_test", s.lps.cut_test},
+                                        {"lps_extents", s.lps.extents},
+                                        {"lps_chebyshev", s.lps.chebyshev},
+                                        {"lps_contact", s.lps.contact},
+                                        {"lps_redundancy", ps.lps},
+                                        {"lps_failed", s.lps.failed + ps.failed},
+                                        {"lps_solved", s.lps.total() + ps.lps},
+                                        {"seconds_cut", s.seconds_cut},
+                                        {"seconds_finish", s.seconds_finish},
+                                        {"seconds_prune", ps.seconds},
+                                        {"faces", faces}};
+      std::ofstream f(stats_file);
+      f << j.dump(2) << '\n';
+      if (!f) throw slice::Error(stats_file, "cannot write the stats file", "check the path");
+    }
     t.say(std::to_string(s.joints) + " joints (" + std::to_string(s.joints_missing) +
           " cut nothing) -> " + std::to_string(s.blocks) + " blocks (" +
           std::to_string(s.boundary) + " boundary, " + std::to_string(s.removed) + " removed, " +

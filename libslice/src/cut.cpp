@@ -198,7 +198,7 @@ class Cutter {
     for (const std::size_t i : candidates_) {
       Block& b = blocks_[i];
       if (b.flags & kBoundary) continue;  // boundary blocks are never cut again
-      if (!may_reach(pj, b)) continue;
+      if (opt_.use_index && !may_reach(pj, b)) continue;
       const Plane plane = to_local(pj.plane, b.origin);
       edges_local.clear();
       for (const Plane& e : pj.edges) edges_local.push_back(to_local(e, b.origin));
@@ -283,13 +283,14 @@ class Cutter {
 
   void finish() {
     // Chebyshev centre: the origin of every block, its inradius.
+    std::vector<Face> core;
     for (std::size_t i = 0; i < blocks_.size(); ++i) {
       Block& b = blocks_[i];
       const ChebyshevBall c = chebyshev_ball(*solver_, b.faces, tol_);
       ++stats_.lps.chebyshev;
       SLICE_ASSERT(c.status == LpStatus::optimal && c.radius > 0);
-      move_origin(b, c.centre);
       b.inradius = c.radius;
+      move_origin(b, unique_centre(b, c, core));
       if (progress_ && (i % 1024 == 0 || i + 1 == blocks_.size()))
         progress_("centres", i + 1, blocks_.size());
     }
@@ -304,6 +305,24 @@ class Cutter {
       stats_.removed += (b.flags & kRemoved) ? 1 : 0;
     }
     find_clusters();
+  }
+
+  /// The Chebyshev centre is not unique (a box longer than wide has a segment of them) and each
+  /// backend may return another point of that set, which would make zone membership depend on
+  /// the backend. The centre used is the middle of the extents of the "core": the points where
+  /// a ball of radius (1 - kCoreShrink) r* fits. That is one point whatever the backend (up to
+  /// LP accuracy), and on a segment or a centrally symmetric set of centres, its middle.
+  Vec3 unique_centre(const Block& b, const ChebyshevBall& c, std::vector<Face>& core) {
+    constexpr double kCoreShrink = 1e-6;
+    core = b.faces;
+    for (Face& f : core) f.d -= (1 - kCoreShrink) * c.radius;
+    const Extents e = extents(*solver_, core, tol_);
+    stats_.lps.chebyshev += 6;
+    if (e.status != LpStatus::optimal) {
+      ++stats_.lps.failed;
+      return c.centre;
+    }
+    return e.centre;
   }
 
   // Clusters (DESIGN section 4): blocks touching across a construction face with positive

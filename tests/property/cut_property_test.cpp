@@ -73,19 +73,31 @@ TEST_CASE("results do not depend on a 1e6 m offset or on units", "[property][cut
       slice::generate_joints(slice::parse_scene(random_scene(seed, shift, 1.0), "b.toml")));
   const auto mm = slice_all(slice::generate_joints(
       slice::parse_scene(random_scene(seed, Vec3::Zero(), 1000.0), "c.toml")));
+  const auto km = slice_all(
+      slice::generate_joints(slice::parse_scene(random_scene(seed, Vec3::Zero(), 1e-3), "d.toml")));
   REQUIRE(moved.blocks.size() == base.blocks.size());
   REQUIRE(mm.blocks.size() == base.blocks.size());
+  REQUIRE(km.blocks.size() == base.blocks.size());
   for (std::size_t i = 0; i < base.blocks.size(); ++i) {
     CAPTURE(i);
     const auto& a = base.blocks[i];
-    CHECK(moved.blocks[i].faces.size() == a.faces.size());
-    CHECK(mm.blocks[i].faces.size() == a.faces.size());
+    for (const auto* other : {&moved, &mm, &km}) {
+      const auto& b = other->blocks[i];
+      REQUIRE(b.faces.size() == a.faces.size());
+      for (std::size_t f = 0; f < a.faces.size(); ++f) CHECK(b.faces[f].joint == a.faces[f].joint);
+    }
+    CHECK_THAT(km.blocks[i].inradius, Catch::Matchers::WithinRel(1e-3 * a.inradius, 1e-9));
     CHECK_THAT(moved.blocks[i].origin.x() - shift.x(),
                Catch::Matchers::WithinAbs(a.origin.x(), 1e-6));
     CHECK_THAT(moved.blocks[i].origin.y() - shift.y(),
                Catch::Matchers::WithinAbs(a.origin.y(), 1e-6));
     CHECK_THAT(moved.blocks[i].inradius, Catch::Matchers::WithinRel(a.inradius, 1e-6));
     CHECK_THAT(mm.blocks[i].inradius, Catch::Matchers::WithinRel(1000 * a.inradius, 1e-9));
+    // At 5e6 m a double carries 5e6 * 2^-53 = 6e-10 m of rounding in every input coordinate,
+    // so the shifted scene agrees to the scene tolerance (1e-9 L, L = 2.7 m), not to 1e-9
+    // of a small block's inradius.
+    CHECK_THAT(moved.blocks[i].inradius,
+               Catch::Matchers::WithinAbs(a.inradius, 1e-9 * base.joints.length_scale));
   }
 }
 

@@ -199,3 +199,127 @@ TEST_CASE("joint kinds: boundary blocks, construction clusters, removal zones", 
   CHECK(st.clusters == 4);
   test::check_invariants(bs, 20000, 3);
 }
+
+TEST_CASE("joint order matters for polygons: as-given against largest-first", "[cut][order]") {
+  // A persistent set z = 5 and a small vertical polygon at y = 5 reaching only the upper
+  // half (x 6..9, z 8..9.5). The [[joints]] entry comes first in as-given order: it cuts the
+  // whole domain (a polygon that reaches a block cuts it through), then z = 5 cuts both
+  // halves: 4 blocks. Largest-first puts the persistent plane first: the polygon then reaches
+  // only the upper half: 3 blocks.
+  const std::string base =
+      "[domain]\nbox = { min = [0, 0, 0], max = [10, 10, 10] }\n" +
+      joint(90, 0, {7.5, 5, 8.75}, "polygon = [[6, 5, 8], [9, 5, 8], [9, 5, 9.5], [6, 5, 9.5]]\n") +
+      "[[sets]]\nname = \"H\"\ndip = 0\ndip_direction = 0\nspacing = 5\n";
+  CHECK(cut(base + "[options]\norder = \"as-given\"\n").blocks.size() == 4);
+  CHECK(cut(base + "[options]\norder = \"by-set\"\n").blocks.size() == 4);
+  CHECK(cut(base + "[options]\norder = \"alternating\"\n").blocks.size() == 4);
+  const auto largest = cut(base + "[options]\norder = \"largest-first\"\n");
+  CHECK(largest.blocks.size() == 3);
+  test::check_invariants(largest, 20000, 4);
+}
+
+TEST_CASE("a boundary block is never cut again", "[cut][kinds]") {
+  // z = 2 is a boundary joint keeping the side below; x = 5 then cuts only the part above.
+  const std::string scene = "[domain]\nbox = { min = [0, 0, 0], max = [10, 10, 10] }\n" +
+                            joint(0, 0, {5, 5, 2}, "kind = \"boundary\"\nkeep = \"below\"\n") +
+                            joint(90, 90, {5, 5, 5});
+  const auto bs = cut(scene);
+  REQUIRE(bs.blocks.size() == 3);
+  std::size_t boundary = 0;
+  for (const auto& b : bs.blocks)
+    if (b.flags & slice::kBoundary) {
+      ++boundary;
+      CHECK_THAT(test::block_volume(b, 1e-12), WithinRel(200.0, 1e-12));  // 10 x 10 x 2 whole
+    }
+  CHECK(boundary == 1);
+  SECTION("keep above flags the upper side, and blocks wholly above a persistent boundary") {
+    const auto up =
+        cut("[domain]\nbox = { min = [0, 0, 0], max = [10, 10, 10] }\n" + joint(90, 90, {3, 5, 5}) +
+            joint(0, 0, {5, 5, 8}, "kind = \"boundary\"\nkeep = \"above\"\n") +
+            joint(90, 90, {6, 5, 5}));
+    // x = 3 first: two blocks; z = 8 cuts both, the tops become boundary blocks; x = 6 cuts
+    // only the lower right block.
+    REQUIRE(up.blocks.size() == 5);
+    std::size_t n = 0;
+    for (const auto& b : up.blocks) n += (b.flags & slice::kBoundary) && b.origin.z() > 8 ? 1 : 0;
+    CHECK(n == 2);
+  }
+}
+
+TEST_CASE("a rock joint through a construction cluster splits it in two", "[cut][kinds]") {
+  // x = 5 (construction) makes one cluster of two blocks; y = 5 (rock) then cuts both: the two
+  // blocks with y < 5 touch across x = 5, and so do the two with y > 5, but no block with
+  // y < 5 touches one with y > 5 across the construction face: two clusters of two.
+  const std::string scene = "[domain]\nbox = { min = [0, 0, 0], max = [10, 10, 10] }\n" +
+                            joint(90, 90, {5, 5, 5}, "kind = \"construction\"\n") +
+                            joint(90, 0, {5, 5, 5});
+  slice::CutStats st;
+  const auto bs = cut(scene, true, slice::LpBackend::native, &st);
+  REQUIRE(bs.blocks.size() == 4);
+  CHECK(st.clusters == 2);
+  for (const auto& a : bs.blocks)
+    for (const auto& b : bs.blocks) {
+      const bool same_side_y = (a.origin.y() < 5) == (b.origin.y() < 5);
+      CHECK((a.cluster == b.cluster) == same_side_y);
+    }
+  SECTION("construction faces meeting only along an edge do not cluster") {
+    // Two construction planes x = 5 and y = 5: diagonal blocks touch along the line x = y = 5
+    // only, with no area: all four blocks are one cluster through their face contacts anyway,
+    // so use a rock joint first to separate: y = 5 rock, then x = 5 construction: two clusters.
+    const auto bs2 =
+        cut("[domain]\nbox = { min = [0, 0, 0], max = [10, 10, 10] }\n" + joint(90, 0, {5, 5, 5}) +
+                joint(90, 90, {5, 5, 5}, "kind = \"construction\"\n"),
+            true, slice::LpBackend::native, &st);
+    REQUIRE(bs2.blocks.size() == 4);
+    CHECK(st.clusters == 2);
+  }
+}
+
+TEST_CASE("a zone removes exactly the blocks whose centre is inside", "[cut][kinds]") {
+  // cube-3sets-like 4 x 4 x 1 grid of unit blocks; the zone x in (0.9, 2.6), y in (0, 1.2):
+  // centres (1.5, 0.5) and (2.5, 0.5) are inside; (0.5, 0.5) and (3.5, 0.5) are not.
+  const std::string scene =
+      "[domain]\nbox = { min = [0, 0, 0], max = [4, 4, 1] }\n"
+      "[[sets]]\ndip = 90\ndip_direction = 90\nspacing = 1\n"
+      "[[sets]]\ndip = 90\ndip_direction = 0\nspacing = 1\n"
+      "[[zones]]\nbox = { min = [0.9, 0, 0], max = [2.6, 1.2, 1] }\n";
+  const auto bs = cut(scene);
+  REQUIRE(bs.blocks.size() == 16);
+  for (const auto& b : bs.blocks) {
+    const bool inside = b.origin.x() > 0.9 && b.origin.x() < 2.6 && b.origin.y() < 1.2;
+    CHECK(bool(b.flags & slice::kRemoved) == inside);
+  }
+}
+
+TEST_CASE("the three LP backends give the same blocks on the rock slope", "[cut][lp]") {
+  const auto js = slice::generate_joints(slice::load_scene(test::data_path("rock-slope.toml")));
+  const auto run = [&](slice::LpBackend lp) {
+    slice::CutOptions opt;
+    opt.backend = lp;
+    auto r = slice::cut_blocks(js, opt);
+    slice::prune_blocks(r.blocks, lp);
+    return std::move(r.blocks);
+  };
+  const auto native = run(slice::LpBackend::native);
+  for (const auto lp : {slice::LpBackend::exact, slice::LpBackend::ipopt}) {
+    CAPTURE(slice::to_string(lp));
+    const auto other = run(lp);
+    REQUIRE(other.blocks.size() == native.blocks.size());
+    for (std::size_t i = 0; i < native.blocks.size(); ++i) {
+      CAPTURE(i);
+      const auto &a = native.blocks[i], &b = other.blocks[i];
+      REQUIRE(a.faces.size() == b.faces.size());
+      // The same planes (Chebyshev centres, hence origins, are not unique: a box has a
+      // segment of them, and each backend may pick another point of it).
+      const auto pa = test::global_planes(a), pb = test::global_planes(b);
+      for (std::size_t f = 0; f < a.faces.size(); ++f) {
+        CHECK(a.faces[f].joint == b.faces[f].joint);
+        CHECK_THAT((pa[f].normal - pb[f].normal).norm(), WithinAbs(0, 1e-12));
+        CHECK_THAT(pa[f].d, WithinAbs(pb[f].d, 1e-9));
+      }
+      CHECK(a.flags == b.flags);
+      CHECK(a.cluster == b.cluster);
+      CHECK_THAT(b.inradius, WithinRel(a.inradius, 1e-6));
+    }
+  }
+}

@@ -11,8 +11,9 @@ namespace slice {
 
 struct CutOptions {
   LpBackend backend = LpBackend::native;
-  /// Bounding spheres and a uniform grid decide which blocks a joint may reach (eq. 17).
-  /// false tests every block with the cut LP: slower, same result; for tests and benchmarks.
+  /// Bounding spheres and a loose grid over them decide which blocks a joint may reach
+  /// (eq. 17, Fig. 18). false runs the cut LP on every block for every joint: slower, same
+  /// blocks; for tests and the scaling benchmark.
   bool use_index = true;
 };
 

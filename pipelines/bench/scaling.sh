@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Scaling benchmark (DESIGN section 11, paper Fig. 20): the paper's Table 3 scene with
+# persistent sets, the spacing varied for about 1,000 to 100,000 blocks, cut and pruned with
+# and without the spatial index. Writes pipelines/bench/results/scaling.csv and scaling.png.
+#   bash pipelines/bench/scaling.sh [spacing ...]     (default spacings below)
+#   e.g. a million blocks by hand:  bash pipelines/bench/scaling.sh 1.0
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+bin=${SLICE_BUILD_DIR:-$root/build}/tools
+results=$root/pipelines/bench/results
+mkdir -p "$results"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+spacings=("$@")
+[ ${#spacings[@]} -gt 0 ] || spacings=(10 7 5.8 4.6 3.7 3.0 2.5 2.15)
+csv=$results/scaling.csv
+echo "index,spacing,blocks,joints,seconds_cut,seconds_prune,lps_solved,lps_skipped,peak_rss_mb" >"$csv"
+for s in "${spacings[@]}"; do
+  sed "s/^spacing = 3.7/spacing = $s/" "$root/data/table3-persistent.toml" >"$work/scene.toml"
+  "$bin/slice-joints" -q "$work/scene.toml" -o "$work/joints.h5"
+  for index in yes no; do
+    flag=()
+    [ "$index" = yes ] || flag=(--no-index)
+    /usr/bin/time -f "%M" -o "$work/rss" "$bin/slice-cut" -q "$work/joints.h5" -o "$work/blocks.h5" \
+      --prune --stats "$work/stats.json" "${flag[@]}"
+    /usr/bin/python3 - "$work/stats.json" "$work/rss" "$index" "$s" >>"$csv" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+rss_mb = int(open(sys.argv[2]).read().split()[-1]) / 1024
+print(f"{sys.argv[3]},{sys.argv[4]},{s['blocks']},{s['joints']},{s['seconds_cut'] + s['seconds_finish']:.4f},"
+      f"{s['seconds_prune']:.4f},{s['lps_solved']},{s['pairs_skipped']},{rss_mb:.1f}")
+PY
+    tail -n 1 "$csv"
+  done
+done
+/usr/bin/python3 "$root/pipelines/bench/plot_scaling.py" "$csv" "$results/scaling.png"
