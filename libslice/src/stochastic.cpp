@@ -374,9 +374,15 @@ std::vector<Joint> generate_stochastic_set(JointSetSpec& spec, std::size_t index
     if (mu > static_cast<double>(max_joints))
       throw Error(where,
                   set + " would draw about " + fmt(mu, 3) + " joints (density x the volume of " +
-                      "the bounding box grown by " + fmt(grow, 3) + "), more than max_joints",
+                      "the bounding box grown by " + fmt(grow, 3) +
+                      "), more than max_joints = " + std::to_string(max_joints),
                   fix_max);
     poisson_count = static_cast<std::int64_t>(gsl_ran_poisson(r, mu));
+    if (poisson_count > max_joints)
+      throw Error(where,
+                  set + " drew a Poisson count of " + std::to_string(poisson_count) +
+                      " joints, more than max_joints = " + std::to_string(max_joints),
+                  fix_max);
   }
   const double target_area = spec.p32 * domain.volume;
   const auto target_hits =
@@ -401,7 +407,7 @@ std::vector<Joint> generate_stochastic_set(JointSetSpec& spec, std::size_t index
     return true;
   };
   while (!done()) {
-    if (spec.candidates >= max_joints)
+    if (spec.intensity != SetIntensity::density && spec.candidates >= max_joints)
       throw Error(where,
                   set + " drew max_joints = " + std::to_string(max_joints) +
                       " joints without reaching its target " + to_string(spec.intensity),

@@ -507,6 +507,27 @@ TEST_CASE("the same scene gives the same joints; appending a set changes no othe
   CHECK(slice::set_stream_seed(9, 0) < (1ull << 32));
 }
 
+TEST_CASE("a stochastic scene shifted by (5e5, 5e6, 300) gives the same joints, shifted",
+          "[stochastic][reproducibility]") {
+  const Vec3 shift(5e5, 5e6, 300);
+  auto scene = [&](const Vec3& o) {
+    return "[scene]\nseed = 12\n[domain]\nbox = { min = [" + num(o.x()) + ", " + num(o.y()) + ", " +
+           num(o.z()) + "], max = [" + num(o.x() + 30) + ", " + num(o.y() + 30) + ", " +
+           num(o.z() + 30) +
+           "] }\n[[sets]]\ndip = 50\ndip_direction = 30\nfisher_kappa = 20\np32 = 0.3\n"
+           "size = { distribution = \"lognormal\", mean = 3.0, sd = 1.0 }\n";
+  };
+  const auto a = generate(scene(Vec3::Zero())), b = generate(scene(shift));
+  REQUIRE(a.joints.size() == b.joints.size());
+  for (std::size_t i = 0; i < a.joints.size(); ++i) {
+    CAPTURE(i);
+    CHECK(a.joints[i].polygon_uv == b.joints[i].polygon_uv);
+    CHECK(a.joints[i].plane.normal == b.joints[i].plane.normal);
+    CHECK_THAT((b.joints[i].centre - shift - a.joints[i].centre).norm(), WithinAbs(0, 1e-8));
+  }
+  CHECK_THAT(b.sets[0].achieved_p32, WithinRel(a.sets[0].achieved_p32, 1e-9));
+}
+
 TEST_CASE("joint order applies to stochastic sets: alternating, each set largest first",
           "[stochastic][order]") {
   const auto js =
