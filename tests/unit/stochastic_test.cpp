@@ -15,9 +15,12 @@
 #include <string>
 #include <vector>
 
+#include "h5/h5.hpp"
 #include "slice/error.hpp"
+#include "slice/h5io.hpp"
 #include "slice/orientation.hpp"
 #include "slice/scene.hpp"
+#include "support/support.hpp"
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::WithinAbs;
@@ -618,4 +621,45 @@ TEST_CASE("generation stops at max_joints drawn joints", "[stochastic][bad-input
   scene.max_joints = 61;
   check_message(error_of([&] { (void)slice::generate_joints(scene); }),
                 {"s.toml", "[[sets]] \"J1\" drew max_joints = 61 joints", "raise max_joints"});
+}
+
+TEST_CASE("/sets attributes: read back, older files without them, bad names refused",
+          "[stochastic][h5io]") {
+  test::TempDir tmp;
+  const auto js = generate(scene_text(
+      3, 20,
+      "[[sets]]\nname = \"J1\"\ndip = 30\ndip_direction = 60\nfisher_kappa = 12\ncount = 40\n"
+      "size = { distribution = \"power-law\", exponent = 2.2, min = 1, max = 9 }\n"
+      "shape = \"ellipse\"\naspect = 2\nfit = \"equal-area\"\nrotation = 15\n"));
+  const auto file = tmp / "j.h5";
+  slice::write_joints(file, js, {"test", "0", "test", "s.toml", "0"});
+  const auto& s = slice::read_joints(file).sets.at(0);
+  CHECK(s.intensity == slice::SetIntensity::count);
+  CHECK(s.count == 40);
+  CHECK(s.fisher_kappa == 12);
+  CHECK(s.size.distribution == slice::SizeDistribution::power_law);
+  CHECK(s.size.exponent == 2.2);
+  CHECK(s.shape == slice::JointShape::ellipse);
+  CHECK(s.fit == slice::EllipseFit::equal_area);
+  CHECK(s.sides == 16);
+  CHECK(s.rotation_fixed);
+  CHECK(s.rotation_deg == 15);
+  CHECK(s.joint_count == 40);
+  CHECK(s.stream_seed == js.sets[0].stream_seed);
+  CHECK(s.achieved_p32 == js.sets[0].achieved_p32);
+  auto edit = [&](const std::function<void(const slice::h5::Group&)>& change) {
+    slice::h5::File f = slice::h5::File::open(file, {file.string(), ""}, true);
+    change(f.root().open_group("sets").open_group("000"));
+    f.close();
+  };
+  edit([](const slice::h5::Group& g) {
+    g.remove_attribute("shape");
+    g.write_attribute<std::string>("shape", "circle");
+  });
+  check_message(error_of([&] { (void)slice::read_joints(file); }),
+                {"j.h5", "/sets/000 attribute shape is \"circle\"", "square, rectangle",
+                 "regenerate it with slice-joints"});
+  // A file from before stochastic sets: no 'intensity', so a regular set.
+  edit([](const slice::h5::Group& g) { g.remove_attribute("intensity"); });
+  CHECK(slice::read_joints(file).sets.at(0).intensity == slice::SetIntensity::spacing);
 }
