@@ -45,7 +45,12 @@ ordered_json describe_joints(const slice::JointSystem& js) {
   }
   ordered_json sets = ordered_json::array();
   for (std::size_t s = 0; s < js.sets.size(); ++s)
-    sets.push_back({{"name", js.sets[s].name}, {"joints", per_set[s]}});
+    sets.push_back({{"name", js.sets[s].name},
+                    {"joints", per_set[s]},
+                    {"intensity", slice::to_string(js.sets[s].intensity)},
+                    {"size", slice::to_string(js.sets[s].size.distribution)},
+                    {"p32", js.sets[s].achieved_p32},
+                    {"p10", js.sets[s].achieved_p10}});
   j["joints"] = {{"total", js.joints.size()},
                  {"persistent", persistent},
                  {"polygons", js.joints.size() - persistent},

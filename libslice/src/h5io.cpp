@@ -142,6 +142,24 @@ void check_joints(const Checker& c, const JointSystem& js) {
     c.side(s.boundary_side, g + "boundary_side");
     if (s.joint_count < 0)
       c.fail(g + "joint_count is " + str(s.joint_count) + "; it cannot be negative");
+    c.non_negative(s.fisher_kappa, g + "fisher_kappa");
+    c.non_negative(s.density, g + "density");
+    if (s.count < 0) c.fail(g + "count is " + str(s.count) + "; it cannot be negative");
+    c.non_negative(s.p32, g + "p32");
+    c.non_negative(s.p10, g + "p10");
+    c.finite(s.scanline_from, g + "scanline_from");
+    c.finite(s.scanline_to, g + "scanline_to");
+    for (const double v : {s.size.value, s.size.mean, s.size.sd, s.size.min, s.size.max})
+      c.non_negative(v, g + "size parameters");
+    c.finite(s.size.exponent, g + "size_exponent");
+    c.finite(s.aspect, g + "aspect");
+    if (s.sides < 0) c.fail(g + "sides is " + str(s.sides) + "; it cannot be negative");
+    c.finite(s.rotation_deg, g + "rotation");
+    c.non_negative(s.enlargement, g + "enlargement");
+    if (s.candidates < 0)
+      c.fail(g + "candidates is " + str(s.candidates) + "; it cannot be negative");
+    c.non_negative(s.achieved_p32, g + "achieved_p32");
+    c.non_negative(s.achieved_p10, g + "achieved_p10");
   }
 
   std::size_t zone_row = 0;
@@ -209,6 +227,41 @@ void write_planes(const Group& g, const std::vector<Plane>& planes) {
   g.write<double>("d", d);
 }
 
+// The stochastic parameters of a set and what generation achieved (DESIGN section 8), as
+// attributes of its /sets group. Vectors are three scalars (_x, _y, _z). Unused parameters are 0.
+void write_set_generation(const Group& sg, const JointSetSpec& s) {
+  sg.write_attribute<std::string>("intensity", to_string(s.intensity));
+  sg.write_attribute("fisher_kappa", s.fisher_kappa);
+  sg.write_attribute("density", s.density);
+  sg.write_attribute("count", s.count);
+  sg.write_attribute("p32", s.p32);
+  sg.write_attribute("p10", s.p10);
+  sg.write_attribute<std::int64_t>("scanline_given", s.scanline_given ? 1 : 0);
+  for (int k = 0; k < 3; ++k) {
+    const std::string axis(1, "xyz"[k]);
+    sg.write_attribute("scanline_from_" + axis, s.scanline_from(k));
+    sg.write_attribute("scanline_to_" + axis, s.scanline_to(k));
+  }
+  sg.write_attribute<std::string>("size_distribution", to_string(s.size.distribution));
+  sg.write_attribute("size_value", s.size.value);
+  sg.write_attribute("size_mean", s.size.mean);
+  sg.write_attribute("size_sd", s.size.sd);
+  sg.write_attribute("size_exponent", s.size.exponent);
+  sg.write_attribute("size_min", s.size.min);
+  sg.write_attribute("size_max", s.size.max);
+  sg.write_attribute<std::string>("shape", to_string(s.shape));
+  sg.write_attribute("aspect", s.aspect);
+  sg.write_attribute("sides", s.sides);
+  sg.write_attribute<std::string>("fit", to_string(s.fit));
+  sg.write_attribute<std::int64_t>("rotation_fixed", s.rotation_fixed ? 1 : 0);
+  sg.write_attribute("rotation", s.rotation_deg);
+  sg.write_attribute("stream_seed", s.stream_seed);
+  sg.write_attribute("enlargement", s.enlargement);
+  sg.write_attribute("candidates", s.candidates);
+  sg.write_attribute("achieved_p32", s.achieved_p32);
+  sg.write_attribute("achieved_p10", s.achieved_p10);
+}
+
 void write_joint_groups(const Group& root, const JointSystem& js) {
   {
     const Group g = root.create_group("domain");
@@ -267,6 +320,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
       sg.write_attribute<std::string>("kind", to_string(s.kind));
       sg.write_attribute<std::int64_t>("boundary_side", s.boundary_side);
       sg.write_attribute("joint_count", s.joint_count);
+      write_set_generation(sg, s);
     }
   }
   {
@@ -428,6 +482,56 @@ void expect_kind(const Group& root, FileKind want) {
               fix);
 }
 
+// A name attribute read back into its enum.
+template <class Enum>
+Enum read_name(const Group& sg, const std::string& attr,
+               std::optional<Enum> (*parse)(std::string_view), const std::string& expected) {
+  const auto v = sg.read_attribute<std::string>(attr);
+  const auto parsed = parse(v);
+  if (!parsed) fail(sg, sg.attribute_label(attr) + " is \"" + v + "\"; expected " + expected);
+  return *parsed;
+}
+
+// The inverse of write_set_generation. A file without these attributes (written before
+// stochastic sets existed) holds regular sets only: the defaults stand.
+void read_set_generation(const Group& sg, JointSetSpec& s) {
+  if (!sg.has_attribute("intensity")) return;
+  s.intensity = read_name<SetIntensity>(sg, "intensity", parse_set_intensity,
+                                        "spacing, density, count, p32 or p10");
+  s.fisher_kappa = sg.read_attribute<double>("fisher_kappa");
+  s.density = sg.read_attribute<double>("density");
+  s.count = sg.read_attribute<std::int64_t>("count");
+  s.p32 = sg.read_attribute<double>("p32");
+  s.p10 = sg.read_attribute<double>("p10");
+  s.scanline_given = sg.read_attribute<std::int64_t>("scanline_given") != 0;
+  for (int k = 0; k < 3; ++k) {
+    const std::string axis(1, "xyz"[k]);
+    s.scanline_from(k) = sg.read_attribute<double>("scanline_from_" + axis);
+    s.scanline_to(k) = sg.read_attribute<double>("scanline_to_" + axis);
+  }
+  s.size.distribution =
+      read_name<SizeDistribution>(sg, "size_distribution", parse_size_distribution,
+                                  "none, fixed, lognormal, exponential or power-law");
+  s.size.value = sg.read_attribute<double>("size_value");
+  s.size.mean = sg.read_attribute<double>("size_mean");
+  s.size.sd = sg.read_attribute<double>("size_sd");
+  s.size.exponent = sg.read_attribute<double>("size_exponent");
+  s.size.min = sg.read_attribute<double>("size_min");
+  s.size.max = sg.read_attribute<double>("size_max");
+  s.shape = read_name<JointShape>(sg, "shape", parse_joint_shape,
+                                  "square, rectangle, polygon or ellipse");
+  s.aspect = sg.read_attribute<double>("aspect");
+  s.sides = sg.read_attribute<std::int64_t>("sides");
+  s.fit = read_name<EllipseFit>(sg, "fit", parse_ellipse_fit, "circumscribed or equal-area");
+  s.rotation_fixed = sg.read_attribute<std::int64_t>("rotation_fixed") != 0;
+  s.rotation_deg = sg.read_attribute<double>("rotation");
+  s.stream_seed = sg.read_attribute<std::uint64_t>("stream_seed");
+  s.enlargement = sg.read_attribute<double>("enlargement");
+  s.candidates = sg.read_attribute<std::int64_t>("candidates");
+  s.achieved_p32 = sg.read_attribute<double>("achieved_p32");
+  s.achieved_p10 = sg.read_attribute<double>("achieved_p10");
+}
+
 JointSystem read_joint_groups(const Group& root) {
   JointSystem js;
   js.name = root.read_attribute<std::string>("name");
@@ -509,6 +613,7 @@ JointSystem read_joint_groups(const Group& root) {
              sg.attribute_label("boundary_side") + " is " + str(side) + "; expected -1, 0 or 1");
       s.boundary_side = static_cast<std::int8_t>(side);
       s.joint_count = sg.read_attribute<std::int64_t>("joint_count");
+      read_set_generation(sg, s);
       js.sets.push_back(std::move(s));
     }
   }

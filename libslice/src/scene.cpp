@@ -16,11 +16,13 @@
 #include <span>
 #include <sstream>
 #include <string_view>
+#include <tuple>
 #include <utility>
 
 #include "slice/error.hpp"
 #include "slice/orientation.hpp"
 #include "slice/polytope.hpp"
+#include "slice/stochastic.hpp"
 
 namespace slice {
 
@@ -42,6 +44,24 @@ std::optional<JointKind> parse_joint_kind(std::string_view s) {
 std::optional<JointOrder> parse_joint_order(std::string_view s) {
   return parse_name<JointOrder>(s, kJointOrderNames);
 }
+const char* to_string(SetIntensity v) { return kSetIntensityNames.at(std::size_t(v)).data(); }
+const char* to_string(SizeDistribution v) {
+  return kSizeDistributionNames.at(std::size_t(v)).data();
+}
+const char* to_string(JointShape v) { return kJointShapeNames.at(std::size_t(v)).data(); }
+const char* to_string(EllipseFit v) { return kEllipseFitNames.at(std::size_t(v)).data(); }
+std::optional<SetIntensity> parse_set_intensity(std::string_view s) {
+  return parse_name<SetIntensity>(s, kSetIntensityNames);
+}
+std::optional<SizeDistribution> parse_size_distribution(std::string_view s) {
+  return parse_name<SizeDistribution>(s, kSizeDistributionNames);
+}
+std::optional<JointShape> parse_joint_shape(std::string_view s) {
+  return parse_name<JointShape>(s, kJointShapeNames);
+}
+std::optional<EllipseFit> parse_ellipse_fit(std::string_view s) {
+  return parse_name<EllipseFit>(s, kEllipseFitNames);
+}
 
 namespace {
 
@@ -50,7 +70,7 @@ using Keys = std::span<const std::string_view>;
 // The keys of each table of a scene file (DESIGN section 6).
 constexpr std::array<std::string_view, 6> kTopTables = {"scene",  "domain", "options",
                                                         "joints", "sets",   "zones"};
-constexpr std::array<std::string_view, 3> kSceneKeys = {"name", "seed", "tolerance"};
+constexpr std::array<std::string_view, 4> kSceneKeys = {"name", "seed", "tolerance", "max_joints"};
 constexpr std::array<std::string_view, 2> kRegionKeys = {"box", "planes"};
 constexpr std::array<std::string_view, 2> kBoxKeys = {"min", "max"};
 constexpr std::array<std::string_view, 2> kPlaneKeys = {"normal", "d"};
@@ -59,13 +79,28 @@ constexpr std::array<std::string_view, 3> kOptionKeys = {"order", "min_inscribed
 constexpr std::array<std::string_view, 9> kJointKeys = {
     "dip",  "dip_direction",  "point",    "polygon", "polygon_uv",
     "kind", "friction_angle", "cohesion", "keep"};
-constexpr std::array<std::string_view, 9> kSetKeys = {
-    "name", "dip",  "dip_direction",  "spacing", "offset",
-    "kind", "keep", "friction_angle", "cohesion"};
-// Keys of stochastic sets (DESIGN section 8): recognised, so that they get a clear "not yet"
-// rather than "unknown key", until the issue that implements them.
-constexpr std::array<std::string_view, 8> kStochasticKeys = {
-    "fisher_kappa", "density", "p32", "p10", "scanline", "count", "size", "shape"};
+constexpr std::array<std::string_view, 21> kSetKeys = {
+    "name",           "dip",      "dip_direction", "spacing", "offset", "kind", "keep",
+    "friction_angle", "cohesion", "fisher_kappa",  "density", "count",  "p32",  "p10",
+    "scanline",       "size",     "shape",         "aspect",  "sides",  "fit",  "rotation"};
+// The intensity keys of a set, in the order of SetIntensity: exactly one is given.
+constexpr std::array<std::string_view, 5> kIntensityKeys = {"spacing", "density", "count", "p32",
+                                                            "p10"};
+// Keys that only finite (sized) joints of a stochastic set take.
+constexpr std::array<std::string_view, 5> kFiniteKeys = {"shape", "aspect", "sides", "fit",
+                                                         "rotation"};
+constexpr std::array<std::string_view, 2> kScanlineKeys = {"from", "to"};
+// The keys of `size` for each distribution (SizeDistribution order; "none" takes none).
+constexpr std::array<std::string_view, 2> kFixedKeys = {"distribution", "value"};
+constexpr std::array<std::string_view, 3> kLognormalKeys = {"distribution", "mean", "sd"};
+constexpr std::array<std::string_view, 2> kExponentialKeys = {"distribution", "mean"};
+constexpr std::array<std::string_view, 4> kPowerLawKeys = {"distribution", "exponent", "min",
+                                                           "max"};
+// Distributions a scene may name (SizeDistribution without "none").
+constexpr std::array<std::string_view, 4> kSizeNames = {"fixed", "lognormal", "exponential",
+                                                        "power-law"};
+// More corners than this is a slip (a polygon is meant, not a circle drawn point by point).
+constexpr std::int64_t kMaxSides = 1000;
 
 constexpr std::array<std::string_view, 2> kKeepNames = {"above", "below"};
 
@@ -191,9 +226,8 @@ struct Tbl {
 
   std::string label(std::string_view key) const { return quote_key(key) + " in " + ctx; }
 
-  // Refuses unknown keys (the first in the file), suggesting the closest known one, and the
-  // keys of features not implemented yet (`refused`).
-  void check_keys(Keys known, Keys refused = {}) const {
+  // Refuses unknown keys (the first in the file), suggesting the closest known one.
+  void check_keys(Keys known) const {
     const toml::key* bad = nullptr;
     for (auto&& [k, v] : t) {
       const bool ok = std::find(known.begin(), known.end(), k.str()) != known.end();
@@ -202,14 +236,7 @@ struct Tbl {
     }
     if (!bad) return;
     const std::string_view k = bad->str();
-    if (std::find(refused.begin(), refused.end(), k) != refused.end())
-      r.fail(bad->source(),
-             quote_key(k) + " (stochastic joint sets) is not supported yet, in " + ctx,
-             "give the set a regular 'spacing' (and 'offset'), or list its joints one by one "
-             "as [[joints]]");
-    std::vector<std::string_view> all(known.begin(), known.end());
-    all.insert(all.end(), refused.begin(), refused.end());
-    const std::string near = closest(k, all);
+    const std::string near = closest(k, known);
     r.fail(bad->source(), "unknown key " + quote_key(k) + " in " + ctx,
            near.empty() ? "the keys of " + ctx + " are: " + join(known, ", ")
                         : "did you mean " + quote_key(near) + "?");
@@ -481,8 +508,21 @@ struct Context {
   const Reader& r;
   RegionAnalysis domain_info;
   double rel_tol = 1e-9;
+  DomainBox box{};  // the domain as the joint generator sees it
+  std::int64_t max_joints = kDefaultMaxJoints;
   double tol() const { return rel_tol * domain_info.length_scale; }
 };
+
+DomainBox domain_box(const Region& domain, const RegionAnalysis& a, double rel_tol) {
+  DomainBox b;
+  b.planes = domain.planes;
+  b.min = a.info.min;
+  b.max = a.info.max;
+  b.interior_point = a.info.interior_point;
+  b.volume = a.info.volume;
+  b.tol = rel_tol * a.length_scale;
+  return b;
+}
 
 constexpr char kDipFix[] =
     "dip is measured down from the horizontal, 0 to 90 degrees (a plane dipping more than 90 "
@@ -621,6 +661,115 @@ Joint read_joint(const Context& cx, const toml::table& tt, std::size_t index) {
   return j;
 }
 
+// A whole number (count, sides, max_joints).
+std::int64_t to_integer(const Reader& r, const toml::node& n, const std::string& label) {
+  const auto* i = n.as_integer();
+  if (!i)
+    r.fail(n, label + " must be a whole number, not " + type_name(n),
+           "write an integer without quotes or decimals");
+  return i->get();
+}
+
+// A number > 0 under `key`, explained by `fix` when it is not.
+double positive(const Tbl& t, std::string_view key, const std::string& fix) {
+  const double x = to_number(t.r, *t.find(key), t.label(key));
+  if (!(x > 0)) t.r.fail(*t.find(key), t.label(key) + " is " + fmt(x) + ", not > 0", fix);
+  return x;
+}
+
+// The first of `keys` present in the table, by line.
+const toml::node* first_present(const Tbl& t, Keys keys, std::string_view* which = nullptr) {
+  const toml::node* best = nullptr;
+  for (const auto& k : keys)
+    if (const toml::node* n = t.find(k))
+      if (!best || n->source().begin.line < best->source().begin.line) {
+        best = n;
+        if (which) *which = k;
+      }
+  return best;
+}
+
+SizeSpec read_size(const Tbl& set, const toml::node& node) {
+  const Reader& r = set.r;
+  const Tbl t{r,
+              as_table(r, node, set.label("size"),
+                       "write size = { distribution = \"lognormal\", mean = 5.0, sd = 1.0 }"),
+              "'size' of " + set.ctx};
+  const toml::node& dn =
+      t.require("distribution",
+                "add distribution = \"fixed\" | \"lognormal\" | \"exponential\" | "
+                "\"power-law\"");
+  SizeSpec s;
+  s.distribution =
+      static_cast<SizeDistribution>(to_choice(r, dn, t.label("distribution"), kSizeNames) + 1);
+  const std::string size_fix = "give a length > 0 (the joints' size in the scene's unit)";
+  switch (s.distribution) {
+    case SizeDistribution::fixed:
+      t.check_keys(kFixedKeys);
+      t.require("value", "add value = <the size of every joint>");
+      s.value = positive(t, "value", size_fix);
+      break;
+    case SizeDistribution::lognormal:
+      t.check_keys(kLognormalKeys);
+      t.require("mean", "add mean = <mean size> (of the size itself, not of its log)");
+      t.require("sd", "add sd = <standard deviation of the size> (of the size, not of its log)");
+      s.mean = positive(t, "mean", size_fix);
+      s.sd = positive(t, "sd",
+                      "give the standard deviation of the size itself, > 0 (for one size, use "
+                      "distribution = \"fixed\")");
+      break;
+    case SizeDistribution::exponential:
+      t.check_keys(kExponentialKeys);
+      t.require("mean", "add mean = <mean size>");
+      s.mean = positive(t, "mean", size_fix);
+      break;
+    case SizeDistribution::power_law:
+      t.check_keys(kPowerLawKeys);
+      t.require("exponent", "add exponent = a (density proportional to size^-a), e.g. 2.5");
+      t.require("min", "add min = <smallest size>");
+      t.require("max", "add max = <largest size>");
+      s.exponent = required_number(t, "exponent", "");
+      s.min = positive(t, "min", size_fix);
+      s.max = positive(t, "max", size_fix);
+      if (!(s.max > s.min))
+        r.fail(*t.find("max"),
+               t.label("max") + " = " + fmt(s.max) + " is not above min = " + fmt(s.min),
+               "give min < max (for one size, use distribution = \"fixed\")");
+      break;
+    case SizeDistribution::persistent:
+      break;
+  }
+  return s;
+}
+
+// A segment given as { from = [x, y, z], to = [x, y, z] } that must lie inside the domain.
+void read_scanline(const Context& cx, const Tbl& set, const toml::node& node, JointSetSpec& s) {
+  const Reader& r = set.r;
+  const std::string form = "scanline = { from = [x, y, z], to = [x, y, z] }";
+  const Tbl t{r, as_table(r, node, set.label("scanline"), "write " + form),
+              "'scanline' of " + set.ctx};
+  t.check_keys(kScanlineKeys);
+  s.scanline_from =
+      to_vector<3>(r, t.require("from", "add from = [x, y, z], one end"), t.label("from"));
+  s.scanline_to =
+      to_vector<3>(r, t.require("to", "add to = [x, y, z], the other end"), t.label("to"));
+  s.scanline_given = true;
+  const double tol = cx.tol();
+  if (!((s.scanline_to - s.scanline_from).norm() > tol))
+    r.fail(node, set.label("scanline") + " has no length: from and to are the same point",
+           "give two different points inside the domain");
+  for (const auto* key : {"from", "to"}) {
+    const Vec3 x = std::string_view(key) == "from" ? s.scanline_from : s.scanline_to;
+    for (const Plane& p : cx.box.planes)
+      if (p.distance(x) > tol)
+        r.fail(*t.find(key),
+               "the scanline of " + set.ctx + " leaves the domain: '" + key + "' " + fmt(x) +
+                   " is " + fmt(p.distance(x), 6) + " outside the domain face with outward " +
+                   "normal " + fmt(p.normal),
+               "give both ends of the scanline inside the domain");
+  }
+}
+
 JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t index,
                       std::set<std::string>& names) {
   const Reader& r = cx.r;
@@ -632,7 +781,7 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
     ctx = "[[sets]] \"" + name + "\"";
   }
   const Tbl t{r, tt, ctx};
-  t.check_keys(kSetKeys, kStochasticKeys);
+  t.check_keys(kSetKeys);
   if (!names.insert(name).second)
     r.fail(name_node ? *name_node : static_cast<const toml::node&>(tt),
            "two [[sets]] are named \"" + name + "\"", "give each set its own name");
@@ -645,21 +794,181 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
   s.friction_angle_deg = c.friction;
   s.cohesion = c.cohesion;
   s.boundary_side = c.side;
-  s.spacing = required_number(t, "spacing",
-                              "add spacing = <distance between the set's planes> (stochastic "
-                              "sets are not supported yet)");
-  if (!(s.spacing > 0))
-    r.fail(*t.find("spacing"), t.label("spacing") + " is " + fmt(s.spacing) + ", not > 0",
-           "give the distance between the set's planes, a positive length");
-  s.offset = number(t, "offset", 0);
-  const Vec3 n = normal_from_dip(s.dip_deg, s.dip_direction_deg);
-  const auto [lo, hi] = extent_along(cx.domain_info.info.vertices, n);
-  if ((hi - lo) / s.spacing > kMaxPlanesPerSet)
-    r.fail(*t.find("spacing"),
-           t.label("spacing") + " = " + fmt(s.spacing) + " gives about " +
-               fmt(std::round((hi - lo) / s.spacing)) + " planes across the domain, more than " +
-               fmt(kMaxPlanesPerSet),
-           "check the units of spacing and of the domain");
+
+  // Exactly one intensity.
+  std::vector<std::size_t> given;
+  for (std::size_t i = 0; i < kIntensityKeys.size(); ++i)
+    if (t.find(kIntensityKeys[i])) given.push_back(i);
+  if (given.empty())
+    r.fail(tt,
+           "missing key 'spacing' (or 'density', 'count', 'p32', 'p10') in " + ctx +
+               ": a set needs one intensity",
+           "add spacing = <distance> for regular persistent planes, or one of density = "
+           "<centres per unit volume>, count = <joints>, p32 = <area per unit volume>, p10 = "
+           "<joints per unit length> (with a scanline) for a stochastic set");
+  if (given.size() > 1) {
+    std::vector<std::string_view> keys;
+    for (const std::size_t i : given) keys.push_back(kIntensityKeys[i]);
+    std::string_view second;
+    const toml::node* first = first_present(t, keys);
+    for (const auto& k : keys)
+      if (t.find(k) != first &&
+          (second.empty() || t.find(k)->source().begin.line < t.find(second)->source().begin.line))
+        second = k;
+    std::string_view first_key;
+    for (const auto& k : keys)
+      if (t.find(k) == first) first_key = k;
+    r.fail(*t.find(second),
+           ctx + " gives both " + quote_key(first_key) + " and " + quote_key(second),
+           "keep one intensity: spacing, density, count, p32 or p10");
+  }
+  s.intensity = static_cast<SetIntensity>(given.front());
+  const std::string_view ikey = kIntensityKeys[given.front()];
+
+  if (const toml::node* n = t.find("fisher_kappa")) {
+    s.fisher_kappa = to_number(r, *n, t.label("fisher_kappa"));
+    if (s.fisher_kappa < 0)
+      r.fail(*n, t.label("fisher_kappa") + " is " + fmt(s.fisher_kappa) + ", below 0",
+             "give the Fisher concentration, >= 0 (0: every joint at the mean orientation; the "
+             "larger, the tighter the poles)");
+  }
+  if (const toml::node* n = t.find("scanline")) read_scanline(cx, t, *n, s);
+  const toml::node* size_node = t.find("size");
+  if (size_node) s.size = read_size(t, *size_node);
+  const bool finite = s.size.distribution != SizeDistribution::persistent;
+
+  if (s.intensity == SetIntensity::spacing) {
+    // Regular persistent planes: one orientation, no size.
+    std::string_view bad;
+    if (const toml::node* n = first_present(
+            t,
+            std::array<std::string_view, 6>{"size", "shape", "aspect", "sides", "fit", "rotation"},
+            &bad))
+      r.fail(*n,
+             t.label(bad) +
+                 " does not apply to a regular set (spacing), whose joints are "
+                 "persistent planes",
+             "remove " + quote_key(bad) +
+                 ", or replace 'spacing' by density, count, p32 or p10 for a stochastic set");
+    if (s.fisher_kappa > 0)
+      r.fail(*t.find("fisher_kappa"),
+             t.label("fisher_kappa") + " does not apply to a regular set (spacing): its planes " +
+                 "share one orientation",
+             "remove 'fisher_kappa', or replace 'spacing' by density, count, p32 or p10");
+    s.spacing =
+        positive(t, "spacing", "give the distance between the set's planes, a positive length");
+    s.offset = number(t, "offset", 0);
+    const Vec3 n = normal_from_dip(s.dip_deg, s.dip_direction_deg);
+    const auto [lo, hi] = extent_along(cx.domain_info.info.vertices, n);
+    if ((hi - lo) / s.spacing > kMaxPlanesPerSet)
+      r.fail(*t.find("spacing"),
+             t.label("spacing") + " = " + fmt(s.spacing) + " gives about " +
+                 fmt(std::round((hi - lo) / s.spacing)) + " planes across the domain, more than " +
+                 fmt(kMaxPlanesPerSet),
+             "check the units of spacing and of the domain");
+    return s;
+  }
+
+  if (const toml::node* n = t.find("offset"))
+    r.fail(*n, t.label("offset") + " applies to regular sets (spacing) only",
+           "remove 'offset': the joints of a stochastic set are placed at random");
+  const toml::node& in = *t.find(ikey);
+  switch (s.intensity) {
+    case SetIntensity::density:
+      s.density = positive(t, "density", "give the number of joint centres per unit volume, > 0");
+      break;
+    case SetIntensity::count:
+      s.count = to_integer(r, in, t.label("count"));
+      if (s.count < 1)
+        r.fail(in, t.label("count") + " is " + std::to_string(s.count) + ", below 1",
+               "give the number of joints, >= 1");
+      break;
+    case SetIntensity::p32:
+      s.p32 = positive(t, "p32", "give the joint area per unit volume, > 0");
+      if (!finite)
+        r.fail(in, t.label("p32") + " needs finite joints, and the set has no 'size'",
+               "add size = { distribution = \"lognormal\", mean = ..., sd = ... } (or fixed, "
+               "exponential, power-law), or give density, count or p10 for persistent planes");
+      break;
+    case SetIntensity::p10:
+      s.p10 = positive(t, "p10", "give the number of joints per unit length of the scanline, > 0");
+      if (!s.scanline_given)
+        t.require("scanline",
+                  "add scanline = { from = [x, y, z], to = [x, y, z] }: p10 counts the joints "
+                  "crossing it");
+      if (std::llround(s.p10 * (s.scanline_to - s.scanline_from).norm()) < 1)
+        r.fail(in,
+               t.label("p10") + " = " + fmt(s.p10) + " on a scanline " +
+                   fmt((s.scanline_to - s.scanline_from).norm(), 6) + " long asks for " +
+                   "no joint at all",
+               "lengthen the scanline or raise p10");
+      break;
+    case SetIntensity::spacing:
+      break;
+  }
+
+  // Shape of finite joints.
+  if (!finite) {
+    std::string_view bad;
+    if (const toml::node* n = first_present(t, kFiniteKeys, &bad))
+      r.fail(*n, t.label(bad) + " applies to finite joints, and the set has no 'size'",
+             "add size = { distribution = ..., ... }, or remove " + quote_key(bad) +
+                 " for persistent planes");
+  } else {
+    if (const toml::node* n = t.find("shape"))
+      s.shape = static_cast<JointShape>(to_choice(r, *n, t.label("shape"), kJointShapeNames));
+    const bool takes_aspect = s.shape == JointShape::rectangle || s.shape == JointShape::ellipse;
+    const bool takes_sides = s.shape == JointShape::polygon || s.shape == JointShape::ellipse;
+    const std::string shape_name = to_string(s.shape);
+    if (const toml::node* n = t.find("aspect")) {
+      if (!takes_aspect)
+        r.fail(*n,
+               t.label("aspect") + " applies to rectangles and ellipses, not to a " + shape_name,
+               "remove 'aspect', or set shape = \"rectangle\" or \"ellipse\"");
+      s.aspect = to_number(r, *n, t.label("aspect"));
+      if (!(s.aspect >= 1))
+        r.fail(*n, t.label("aspect") + " is " + fmt(s.aspect) + ", below 1",
+               "give long / short side (or diameter), >= 1; size is the long one");
+    }
+    if (s.shape == JointShape::ellipse) s.sides = 16;
+    if (s.shape == JointShape::polygon)
+      t.require("sides", "add sides = <number of corners>, e.g. 6 (a regular polygon)");
+    if (const toml::node* n = t.find("sides")) {
+      if (!takes_sides)
+        r.fail(*n, t.label("sides") + " applies to polygons and ellipses, not to a " + shape_name,
+               "remove 'sides', or set shape = \"polygon\" or \"ellipse\"");
+      s.sides = to_integer(r, *n, t.label("sides"));
+      if (s.sides < 3 || s.sides > kMaxSides)
+        r.fail(*n,
+               t.label("sides") + " is " + std::to_string(s.sides) + ", outside [3, " +
+                   std::to_string(kMaxSides) + "]",
+               "give the number of corners of the polygon, 3 to " + std::to_string(kMaxSides));
+    }
+    if (const toml::node* n = t.find("fit")) {
+      if (s.shape != JointShape::ellipse)
+        r.fail(*n, t.label("fit") + " applies to ellipses, not to a " + shape_name,
+               "remove 'fit', or set shape = \"ellipse\"");
+      s.fit = static_cast<EllipseFit>(to_choice(r, *n, t.label("fit"), kEllipseFitNames));
+    }
+    if (const toml::node* n = t.find("rotation")) {
+      s.rotation_fixed = true;
+      s.rotation_deg = to_number(r, *n, t.label("rotation"));
+    }
+  }
+
+  // A set that would draw more joints than allowed is refused before anything is drawn.
+  const double expect = expected_candidates(s, cx.box);
+  if (!std::isfinite(expect))
+    r.fail(in,
+           t.label(ikey) + " cannot be reached: the scanline lies in the plane of the set's " +
+               "joints, so none crosses it",
+           "give a scanline across the joints, e.g. along their mean normal");
+  if (expect > static_cast<double>(cx.max_joints))
+    r.fail(in,
+           ctx + " would draw about " + fmt(expect, 3) + " joints (" + std::string(ikey) + " = " +
+               fmt(to_number(r, in, t.label(ikey))) +
+               "), more than max_joints = " + std::to_string(cx.max_joints),
+           "lower " + quote_key(ikey) + " (check its units), or raise max_joints in [scene]");
   return s;
 }
 
@@ -740,6 +1049,13 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
                "give a seed >= 0");
       scene.seed = static_cast<std::uint64_t>(i->get());
     }
+    if (const toml::node* n = t.find("max_joints")) {
+      scene.max_joints = to_integer(r, *n, t.label("max_joints"));
+      if (scene.max_joints < 1)
+        r.fail(*n, t.label("max_joints") + " is " + std::to_string(scene.max_joints) + ", below 1",
+               "give the most joints one stochastic set may draw, >= 1 (default " +
+                   std::to_string(kDefaultMaxJoints) + ")");
+    }
     scene.options.tolerance = number(t, "tolerance", 1e-9);
     if (!(scene.options.tolerance > 0 && scene.options.tolerance < 1))
       r.fail(*t.find("tolerance"),
@@ -769,6 +1085,8 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
              "check that every normal points outward and every d puts the plane on the "
              "domain's face");
   }
+  cx.box = domain_box(scene.domain, cx.domain_info, scene.options.tolerance);
+  cx.max_joints = scene.max_joints;
 
   if (const toml::table* ot = single("options")) {
     const Tbl t{r, *ot, "[options]"};
@@ -838,15 +1156,17 @@ JointSystem generate_joints(const Scene& scene) {
   js.options = scene.options;
   js.sets = scene.sets;
   js.zones = scene.zones;
+  const std::string where = scene.source.string();
   const RegionAnalysis dom = analyse_region(scene.domain.planes, scene.options.tolerance);
   if (dom.status != RegionStatus::ok)
-    throw Error(scene.source.string(),
+    throw Error(where,
                 dom.status == RegionStatus::unbounded ? "the domain is unbounded"
                                                       : "the domain has no volume",
                 "give a bounded domain with an interior (load the scene with load_scene)");
   js.length_scale = dom.length_scale;
   const double tol = scene.options.tolerance * dom.length_scale;
   const Vec3 mean = dom.info.interior_point;  // the domain's vertex mean
+  const DomainBox box = domain_box(scene.domain, dom, scene.options.tolerance);
 
   // [[joints]] first, in file order. A joint that misses the domain entirely is kept: the
   // slicer finds that it cuts nothing, and the joint indices stay those of the file.
@@ -856,33 +1176,45 @@ JointSystem generate_joints(const Scene& scene) {
   }
   for (std::size_t s = 0; s < js.sets.size(); ++s) {
     JointSetSpec& spec = js.sets[s];
-    if (!(spec.spacing > 0) || !std::isfinite(spec.spacing) || !std::isfinite(spec.offset))
-      throw Error(scene.source.string(),
-                  "set \"" + spec.name + "\" has spacing " + fmt(spec.spacing) + " and offset " +
-                      fmt(spec.offset),
-                  "give a finite spacing > 0 and a finite offset");
     const Vec3 n = normal_from_dip(spec.dip_deg, spec.dip_direction_deg);
-    const auto [lo, hi] = extent_along(dom.info.vertices, n);
-    if ((hi - lo) / spec.spacing > kMaxPlanesPerSet)
-      throw Error(
-          scene.source.string(),
-          "set \"" + spec.name + "\" would have more than " + fmt(kMaxPlanesPerSet) + " planes",
-          "check the units of spacing and of the domain");
-    const std::vector<double> planes = set_planes(spec, dom.info.vertices, tol);
-    for (const double c : planes) {
-      Joint j;
-      j.plane = {n, c};
-      j.centre = mean - (n.dot(mean) - c) * n;  // the vertex mean projected on the plane
-      j.dip_deg = spec.dip_deg;
-      j.dip_direction_deg = spec.dip_direction_deg;
-      j.kind = spec.kind;
-      j.set = static_cast<std::int32_t>(s);
-      j.friction_angle_deg = spec.friction_angle_deg;
-      j.cohesion = spec.cohesion;
-      j.boundary_side = spec.boundary_side;
-      js.joints.push_back(std::move(j));
+    if (!spec.scanline_given) std::tie(spec.scanline_from, spec.scanline_to) = chord(box, mean, n);
+    const std::size_t first = js.joints.size();
+    if (spec.intensity != SetIntensity::spacing) {
+      std::vector<Joint> joints =
+          generate_stochastic_set(spec, s, scene.seed, box, scene.max_joints, where);
+      std::move(joints.begin(), joints.end(), std::back_inserter(js.joints));
+    } else {
+      if (!(spec.spacing > 0) || !std::isfinite(spec.spacing) || !std::isfinite(spec.offset))
+        throw Error(where,
+                    "set \"" + spec.name + "\" has spacing " + fmt(spec.spacing) + " and offset " +
+                        fmt(spec.offset),
+                    "give a finite spacing > 0 and a finite offset");
+      const auto [lo, hi] = extent_along(dom.info.vertices, n);
+      if ((hi - lo) / spec.spacing > kMaxPlanesPerSet)
+        throw Error(
+            where,
+            "set \"" + spec.name + "\" would have more than " + fmt(kMaxPlanesPerSet) + " planes",
+            "check the units of spacing and of the domain");
+      const std::vector<double> planes = set_planes(spec, dom.info.vertices, tol);
+      for (const double c : planes) {
+        Joint j;
+        j.plane = {n, c};
+        j.centre = mean - (n.dot(mean) - c) * n;  // the vertex mean projected on the plane
+        j.dip_deg = spec.dip_deg;
+        j.dip_direction_deg = spec.dip_direction_deg;
+        j.kind = spec.kind;
+        j.set = static_cast<std::int32_t>(s);
+        j.friction_angle_deg = spec.friction_angle_deg;
+        j.cohesion = spec.cohesion;
+        j.boundary_side = spec.boundary_side;
+        js.joints.push_back(std::move(j));
+      }
+      spec.stream_seed = set_stream_seed(scene.seed, s);  // recorded, though unused
+      spec.candidates = static_cast<std::int64_t>(planes.size());
     }
-    spec.joint_count = static_cast<std::int64_t>(planes.size());
+    std::vector<const Joint*> mine;
+    for (std::size_t i = first; i < js.joints.size(); ++i) mine.push_back(&js.joints[i]);
+    measure_set(spec, mine, box);
   }
   order_joints(js.joints, scene.options.order);
   return js;

@@ -49,6 +49,34 @@ void check_equal(const slice::JointSystem& a, const slice::JointSystem& b) {
     CHECK(a.sets[i].offset == b.sets[i].offset);
     CHECK(a.sets[i].kind == b.sets[i].kind);
     CHECK(a.sets[i].joint_count == b.sets[i].joint_count);
+    const auto &x = a.sets[i], &y = b.sets[i];
+    CHECK(x.intensity == y.intensity);
+    CHECK(x.fisher_kappa == y.fisher_kappa);
+    CHECK(x.density == y.density);
+    CHECK(x.count == y.count);
+    CHECK(x.p32 == y.p32);
+    CHECK(x.p10 == y.p10);
+    CHECK(x.scanline_given == y.scanline_given);
+    CHECK(x.scanline_from == y.scanline_from);
+    CHECK(x.scanline_to == y.scanline_to);
+    CHECK(x.size.distribution == y.size.distribution);
+    CHECK(x.size.value == y.size.value);
+    CHECK(x.size.mean == y.size.mean);
+    CHECK(x.size.sd == y.size.sd);
+    CHECK(x.size.exponent == y.size.exponent);
+    CHECK(x.size.min == y.size.min);
+    CHECK(x.size.max == y.size.max);
+    CHECK(x.shape == y.shape);
+    CHECK(x.aspect == y.aspect);
+    CHECK(x.sides == y.sides);
+    CHECK(x.fit == y.fit);
+    CHECK(x.rotation_fixed == y.rotation_fixed);
+    CHECK(x.rotation_deg == y.rotation_deg);
+    CHECK(x.stream_seed == y.stream_seed);
+    CHECK(x.enlargement == y.enlargement);
+    CHECK(x.candidates == y.candidates);
+    CHECK(x.achieved_p32 == y.achieved_p32);
+    CHECK(x.achieved_p10 == y.achieved_p10);
   }
   REQUIRE(a.zones.size() == b.zones.size());
   for (std::size_t i = 0; i < a.zones.size(); ++i)
@@ -58,7 +86,8 @@ void check_equal(const slice::JointSystem& a, const slice::JointSystem& b) {
 }  // namespace
 
 TEST_CASE("scene -> joints.h5 -> reader round trip is exact for every example", "[roundtrip]") {
-  const auto name = GENERATE("cube-3sets.toml", "table3-persistent.toml", "rock-slope.toml");
+  const auto name = GENERATE("cube-3sets.toml", "table3-persistent.toml", "rock-slope.toml",
+                             "table3-lognormal.toml", "genesis-limestone.toml");
   CAPTURE(name);
   test::TempDir tmp;
   const auto js = slice::generate_joints(slice::load_scene(test::data_path(name)));

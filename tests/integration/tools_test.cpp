@@ -77,7 +77,8 @@ TEST_CASE("slice-joints writes joints.h5 that slice-info and h5dump read", "[too
 
 TEST_CASE("slice-joints output is byte-identical on a rerun", "[tools]") {
   test::TempDir tmp;
-  for (const char* scene : {"cube-3sets.toml", "table3-persistent.toml", "rock-slope.toml"}) {
+  for (const char* scene : {"cube-3sets.toml", "table3-persistent.toml", "rock-slope.toml",
+                            "table3-lognormal.toml", "genesis-limestone.toml"}) {
     CAPTURE(scene);
     const std::string in = test::data_path(scene).string();
     // Same command line both times: provenance records it.
@@ -137,9 +138,12 @@ TEST_CASE("bad input: exit 1, one line naming file, line and key, nothing writte
        {":6", "spacing"}},
       {"NaN", box + "[[sets]]\ndip = nan\ndip_direction = 0\nspacing = 1.0\n", {":4", "dip"}},
       {"box min >= max", "[domain]\nbox = { min = [0, 0, 0], max = [4, 0, 4] }\n", {":2", "box"}},
-      {"stochastic key",
+      {"no intensity",
        box + "[[sets]]\ndip = 5\ndip_direction = 0\nfisher_kappa = 20\n",
-       {":6", "fisher_kappa", "not supported yet"}},
+       {":3", "missing key 'spacing'", "density"}},
+      {"fisher_kappa on a regular set",
+       box + "[[sets]]\ndip = 5\ndip_direction = 0\nspacing = 1.0\nfisher_kappa = 20\n",
+       {":7", "fisher_kappa", "regular set"}},
       {"TOML syntax", box + "[[sets]\n", {":3"}},
   };
   for (const auto& c : cases) {

@@ -580,25 +580,39 @@ TEST_CASE("bad scene: spacing <= 0 or missing", "[unit][scene][bad-input]") {
                 {"bad.toml:6", "'spacing'", "units"});
 }
 
-TEST_CASE("bad scene: stochastic set keys are not supported yet", "[unit][scene][bad-input]") {
-  const char* keys[] = {"fisher_kappa = 20",
-                        "density = 1e-3",
-                        "p32 = 0.5",
-                        "p10 = 1.5",
-                        "scanline = { from = [0, 0, 0], to = [1, 1, 1] }",
-                        "count = 200",
-                        "size = { distribution = \"fixed\", value = 2.0 }",
-                        "shape = \"square\""};
-  for (const std::string kv : keys) {
-    const std::string key = kv.substr(0, kv.find(' '));
-    CAPTURE(key);
-    check_message(error_of(kHead +
-                           "[[sets]]\nname = \"J1\"\ndip = 5\ndip_direction = 9\n"
-                           "spacing = 2\n" +
-                           kv + "\n"),
-                  {"bad.toml:8", "'" + key + "' (stochastic joint sets) is not supported yet",
-                   "[[sets]] \"J1\"", "spacing"});
+TEST_CASE("bad scene: stochastic keys in a regular set (spacing)", "[unit][scene][bad-input]") {
+  struct Case {
+    std::string kv;
+    std::vector<std::string> words;
+  };
+  const std::vector<Case> cases = {
+      {"fisher_kappa = 20", {"'fisher_kappa'", "regular set", "share one orientation"}},
+      {"density = 1e-3", {"gives both 'spacing' and 'density'", "keep one intensity"}},
+      {"p32 = 0.5", {"gives both 'spacing' and 'p32'"}},
+      {"p10 = 1.5", {"gives both 'spacing' and 'p10'"}},
+      {"count = 200", {"gives both 'spacing' and 'count'"}},
+      {"size = { distribution = \"fixed\", value = 2.0 }",
+       {"'size'", "regular set (spacing)", "persistent planes"}},
+      {"shape = \"square\"", {"'shape'", "regular set (spacing)"}},
+      {"rotation = 10", {"'rotation'", "regular set (spacing)"}},
+  };
+  for (const auto& c : cases) {
+    CAPTURE(c.kv);
+    std::vector<std::string> words = {"bad.toml:8", "[[sets]] \"J1\""};
+    words.insert(words.end(), c.words.begin(), c.words.end());
+    const std::string msg = error_of(kHead +
+                                     "[[sets]]\nname = \"J1\"\ndip = 5\ndip_direction = 9\n"
+                                     "spacing = 2\n" +
+                                     c.kv + "\n");
+    INFO("message: " << msg);
+    for (const auto& w : words) CHECK_THAT(msg, Contains(w));
   }
+  // A scanline only says where P10 is measured: a regular set may have one.
+  const auto s = slice::parse_scene(kHead +
+                                        "[[sets]]\ndip = 5\ndip_direction = 9\nspacing = 2\n"
+                                        "scanline = { from = [0, 0, 0], to = [1, 1, 1] }\n",
+                                    "f.toml");
+  CHECK(s.sets.at(0).scanline_given);
 }
 
 TEST_CASE("bad scene: domain missing, empty or unbounded", "[unit][scene][bad-input]") {

@@ -22,6 +22,9 @@ inline constexpr std::array<std::string_view, 3> kJointKindNames = {"rock", "con
 inline constexpr std::array<std::string_view, 4> kJointOrderNames = {"as-given", "largest-first",
                                                                      "by-set", "alternating"};
 
+/// The most joints a stochastic set may draw unless [scene] max_joints says otherwise.
+inline constexpr std::int64_t kDefaultMaxJoints = 10'000'000;
+
 const char* to_string(JointKind k);
 const char* to_string(JointOrder o);
 /// The enum named by s, or nothing if s names none.
@@ -58,10 +61,53 @@ struct SliceOptions {
   double tolerance = 1e-9;            // relative to JointSystem::length_scale
 };
 
-/// A [[sets]] entry as the scene gave it, plus what was generated from it.
+/// How a [[sets]] entry says how many joints it has (DESIGN section 8).
+enum class SetIntensity {
+  spacing,  // regular persistent planes n . x = offset + k * spacing
+  density,  // Poisson process: centres per unit volume
+  count,    // this many joints that meet the domain
+  p32,      // joints until their area inside the domain per unit volume reaches p32
+  p10       // joints until those crossing the scanline per unit length reach p10
+};
+enum class SizeDistribution { persistent, fixed, lognormal, exponential, power_law };
+enum class JointShape { square, rectangle, polygon, ellipse };
+enum class EllipseFit { circumscribed, equal_area };
+
+/// Names in scene files and HDF5 attributes, indexed by the enums' values (a public contract).
+inline constexpr std::array<std::string_view, 5> kSetIntensityNames = {"spacing", "density",
+                                                                       "count", "p32", "p10"};
+inline constexpr std::array<std::string_view, 5> kSizeDistributionNames = {
+    "none", "fixed", "lognormal", "exponential", "power-law"};
+inline constexpr std::array<std::string_view, 4> kJointShapeNames = {"square", "rectangle",
+                                                                     "polygon", "ellipse"};
+inline constexpr std::array<std::string_view, 2> kEllipseFitNames = {"circumscribed", "equal-area"};
+
+const char* to_string(SetIntensity v);
+const char* to_string(SizeDistribution v);
+const char* to_string(JointShape v);
+const char* to_string(EllipseFit v);
+std::optional<SetIntensity> parse_set_intensity(std::string_view s);
+std::optional<SizeDistribution> parse_size_distribution(std::string_view s);
+std::optional<JointShape> parse_joint_shape(std::string_view s);
+std::optional<EllipseFit> parse_ellipse_fit(std::string_view s);
+
+/// The size distribution of a set's joints. Size is the side of a square, the long side of a
+/// rectangle, the diameter of the circle through a regular polygon's corners, the long diameter
+/// of an ellipse. Parameters the distribution does not use are 0.
+struct SizeSpec {
+  SizeDistribution distribution = SizeDistribution::persistent;  // persistent: no polygon
+  double value = 0;                                              // fixed
+  double mean = 0;      // lognormal, exponential: mean of the size itself (not of its log)
+  double sd = 0;        // lognormal: standard deviation of the size itself
+  double exponent = 0;  // power-law: density proportional to size^-exponent on [min, max]
+  double min = 0;
+  double max = 0;
+};
+
+/// A [[sets]] entry as the scene gave it, plus what was generated from it. Angles in degrees.
 struct JointSetSpec {
   std::string name;
-  double dip_deg = 0;
+  double dip_deg = 0;  // mean orientation
   double dip_direction_deg = 0;
   double spacing = 0;  // regular persistent planes n . x = offset + k * spacing
   double offset = 0;
@@ -70,6 +116,34 @@ struct JointSetSpec {
   JointKind kind = JointKind::rock;
   std::int8_t boundary_side = 0;
   std::int64_t joint_count = 0;  // generated joints that meet the domain
+
+  // Stochastic sets (every intensity but spacing).
+  SetIntensity intensity = SetIntensity::spacing;
+  double fisher_kappa = 0;  // Fisher concentration of the poles; 0 = every joint at the mean
+  double density = 0;       // targets: the one `intensity` names is set, the others are 0
+  std::int64_t count = 0;
+  double p32 = 0;
+  double p10 = 0;
+  // The scanline P10 is measured along (and, for intensity p10, targeted on), inside the domain.
+  // When the scene gives none: the chord of the domain along the set's mean normal through the
+  // mean of the domain's vertices.
+  bool scanline_given = false;
+  Vec3 scanline_from = Vec3::Zero();
+  Vec3 scanline_to = Vec3::Zero();
+  SizeSpec size{};
+  JointShape shape = JointShape::square;
+  double aspect = 1;       // rectangle, ellipse: long / short side or diameter (>= 1)
+  std::int64_t sides = 4;  // polygon, ellipse: corners of the polygon
+  EllipseFit fit = EllipseFit::circumscribed;
+  bool rotation_fixed = false;  // false: each joint turned by a uniform random angle in-plane
+  double rotation_deg = 0;      // fixed rotation, counter-clockwise from strike in (u, v)
+
+  // What generation did (stochastic and regular sets alike).
+  std::uint64_t stream_seed = 0;  // seed of the set's gsl_rng_mt19937 stream
+  double enlargement = 0;         // centres drawn in the domain's bounding box grown by this
+  std::int64_t candidates = 0;    // joints drawn, including those that missed the domain
+  double achieved_p32 = 0;        // joint area inside the domain / domain volume
+  double achieved_p10 = 0;        // joints crossing the scanline / its length
 };
 
 /// What a scene file says, parsed and validated.
@@ -77,6 +151,7 @@ struct Scene {
   std::filesystem::path source;  // the file it came from (for messages)
   std::string name;
   std::uint64_t seed = 0;
+  std::int64_t max_joints = kDefaultMaxJoints;  // per stochastic set, joints drawn
   Region domain;
   SliceOptions options;
   std::vector<Joint> joints;  // [[joints]], in file order

@@ -1,0 +1,168 @@
+// Stochastic scenes through the real tools: the full pipeline on the paper's Table 3 scene with
+// the slicer's invariants checked, byte-identical reruns, /sets in the files, bad input, plots.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "slice/h5io.hpp"
+#include "slice/scene.hpp"
+#include "support/blocks_check.hpp"
+#include "support/support.hpp"
+
+using test::run_tool;
+
+namespace {
+
+std::string joints_of(const test::TempDir& tmp, const std::string& scene) {
+  const std::string out = (tmp / "joints.h5").string();
+  const auto r = run_tool("slice-joints", {test::data_path(scene).string(), "-o", out});
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("table3-lognormal: slice-joints, slice-cut, slice-prune; the invariants hold",
+          "[tools][stochastic]") {
+  test::TempDir tmp;
+  const auto joints = joints_of(tmp, "table3-lognormal.toml");
+  const auto blocks = (tmp / "blocks.h5").string(), pruned = (tmp / "pruned.h5").string();
+  const auto cut = run_tool("slice-cut", {joints, "-o", blocks});
+  INFO(cut.err);
+  REQUIRE(cut.exit_code == 0);
+  REQUIRE(run_tool("slice-prune", {blocks, "-o", pruned}).exit_code == 0);
+  const auto bs = slice::read_blocks(pruned);
+  CHECK(bs.pruned);
+  // The data file's comment quotes this count (seed 2015).
+  CHECK(bs.blocks.size() == 12599);
+  CHECK(bs.joints.sets.size() == 3);
+  for (const auto& s : bs.joints.sets) {
+    CHECK(s.intensity == slice::SetIntensity::density);
+    CHECK(s.size.distribution == slice::SizeDistribution::lognormal);
+    CHECK(s.joint_count > 1000);
+  }
+  // Volumes add up to the domain's, points lie in exactly one block, no two blocks overlap,
+  // every block has an inradius.
+  const auto rep = test::check_invariants(bs, 20000, 8);
+  CHECK(rep.overlapping_pairs == 0);
+  CHECK(rep.pairs_checked > 0);
+}
+
+TEST_CASE("stochastic scenes give byte-identical joints.h5 and blocks.h5 on a rerun",
+          "[tools][stochastic]") {
+  test::TempDir tmp;
+  for (const char* scene : {"table3-lognormal.toml", "genesis-limestone.toml"}) {
+    CAPTURE(scene);
+    const std::string in = test::data_path(scene).string();
+    const std::string j = (tmp / "j.h5").string(), b = (tmp / "b.h5").string();
+    REQUIRE(run_tool("slice-joints", {in, "-o", j}).exit_code == 0);
+    const std::string first = test::read_bytes(j);
+    REQUIRE(run_tool("slice-joints", {in, "-o", j}).exit_code == 0);
+    CHECK(test::read_bytes(j) == first);
+    if (std::string(scene) == "genesis-limestone.toml") {  // the smaller one through slice-cut
+      REQUIRE(run_tool("slice-cut", {j, "-o", b, "--prune"}).exit_code == 0);
+      const std::string blocks = test::read_bytes(b);
+      REQUIRE(run_tool("slice-cut", {j, "-o", b, "--prune"}).exit_code == 0);
+      CHECK(test::read_bytes(b) == blocks);
+    }
+  }
+}
+
+TEST_CASE("genesis-limestone: four sets, each intensity met, introduced set by set",
+          "[tools][stochastic]") {
+  test::TempDir tmp;
+  const auto js = slice::read_joints(joints_of(tmp, "genesis-limestone.toml"));
+  REQUIRE(js.sets.size() == 4);
+  CHECK(js.options.order == slice::JointOrder::by_set);
+  using I = slice::SetIntensity;
+  CHECK(js.sets[0].intensity == I::count);
+  CHECK(js.sets[0].joint_count == 12);
+  CHECK(js.sets[1].intensity == I::p32);
+  CHECK_THAT(js.sets[1].achieved_p32, Catch::Matchers::WithinRel(0.12, 0.02));
+  CHECK(js.sets[2].intensity == I::p10);
+  CHECK_THAT(js.sets[2].achieved_p10, Catch::Matchers::WithinRel(0.4, 0.02));
+  CHECK(js.sets[3].intensity == I::density);
+  CHECK(js.sets[0].rotation_fixed);
+  CHECK(js.sets[3].shape == slice::JointShape::ellipse);
+  int last = 0;
+  for (const auto& j : js.joints) {  // by-set: never back to an earlier set
+    CHECK(j.set >= last);
+    last = j.set;
+  }
+  const auto info = run_tool("slice-info", {(tmp / "joints.h5").string(), "--json"});
+  REQUIRE(info.exit_code == 0);
+  const auto j = nlohmann::json::parse(info.out);
+  CHECK(j["joints"]["by_set"][2]["intensity"] == "p10");
+  CHECK(j["joints"]["by_set"][2]["p10"] == js.sets[2].achieved_p10);
+}
+
+TEST_CASE("bad stochastic sets: exit 1, one line, nothing written", "[tools][stochastic]") {
+  struct Bad {
+    const char* name;
+    std::string text;
+    std::vector<std::string> words;
+  };
+  const std::string set =
+      "[domain]\nbox = { min = [0, 0, 0], max = [4, 4, 4] }\n"
+      "[[sets]]\nname = \"J1\"\ndip = 5\ndip_direction = 0\n";  // lines 1-6
+  const std::string size = "size = { distribution = \"lognormal\", mean = 1.0, sd = 0.5 }\n";
+  const std::vector<Bad> cases = {
+      {"negative sd",
+       set + "density = 0.1\nsize = { distribution = \"lognormal\", mean = 1.0, sd = -0.5 }\n",
+       {":8", "'sd'", "-0.5"}},
+      {"kappa below 0",
+       set + "fisher_kappa = -1\ndensity = 0.1\n" + size,
+       {":7", "fisher_kappa", "below 0"}},
+      {"p32 with no size", set + "p32 = 0.5\n", {":7", "p32", "no 'size'"}},
+      {"scanline outside the domain",
+       set + "p10 = 2\nscanline = { from = [-1, 2, 2], to = [3, 2, 2] }\n" + size,
+       {":8", "scanline", "leaves the domain", "'from'"}},
+      {"more than max_joints",
+       set + "density = 1e6\n" + size,
+       {":7", "more than max_joints = 10000000"}},
+      {"more than a lower max_joints",
+       "[scene]\nmax_joints = 50\n" + set + "count = 60\n" + size,
+       {":9", "more than max_joints = 50"}},
+  };
+  for (const auto& c : cases) {
+    CAPTURE(c.name, c.text);
+    test::TempDir tmp;
+    test::write_text(tmp / "bad.toml", c.text);
+    const auto out = tmp / "j.h5";
+    const auto r = run_tool("slice-joints", {(tmp / "bad.toml").string(), "-o", out.string()});
+    CHECK(r.exit_code == 1);
+    CHECK_THAT(r.err, Catch::StartsWith("slice-joints: error: "));
+    CHECK_THAT(r.err, Catch::Contains("bad.toml"));
+    for (const auto& w : c.words) CHECK_THAT(r.err, Catch::Contains(w));
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_FALSE(test::fs::exists(out));
+    CHECK_FALSE(test::fs::exists(tmp / "j.h5.partial"));
+  }
+}
+
+TEST_CASE("pipelines/plot draws the stereonet, sizes and volumes", "[tools][stochastic][plot]") {
+  if (test::run_shell("/usr/bin/python3 -c 'import h5py, matplotlib' >/dev/null 2>&1") != 0) {
+    WARN("skipped: /usr/bin/python3 lacks h5py or matplotlib (pipelines/setup installs them)");
+    return;
+  }
+  test::TempDir tmp;
+  const auto joints = joints_of(tmp, "genesis-limestone.toml");
+  const auto blocks = (tmp / "blocks.h5").string();
+  REQUIRE(run_tool("slice-cut", {joints, "-o", blocks, "--prune"}).exit_code == 0);
+  const std::string plot = (test::data_path("..") / "pipelines" / "plot").string();
+  const std::string cmd = "/usr/bin/python3 '" + plot + "' '" + blocks + "' -o '" +
+                          (tmp / "png").string() + "' 2>/dev/null";
+  REQUIRE(test::run_shell(cmd) == 0);
+  for (const char* png : {"blocks-stereonet.png", "blocks-sizes.png", "blocks-volumes.png"}) {
+    CAPTURE(png);
+    const std::string bytes = test::read_bytes(tmp / "png" / png);
+    REQUIRE(bytes.size() > 1000);
+    CHECK(bytes.substr(1, 3) == "PNG");
+  }
+  // A file that is not a rockslice file: exit 1.
+  test::write_text(tmp / "x.h5", "not hdf5");
+  CHECK(test::run_shell("/usr/bin/python3 '" + plot + "' '" + (tmp / "x.h5").string() + "' -o '" +
+                        (tmp / "png").string() + "' 2>/dev/null") != 0);
+}
