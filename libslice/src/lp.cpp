@@ -23,13 +23,20 @@ std::string lower_case(std::string_view s) {
   return out;
 }
 
-void check_unit(const Vec3& n, double d, const char* where, const char* what, std::size_t i) {
-  if (!n.allFinite() || !std::isfinite(d) || std::abs(n.squaredNorm() - 1) > kUnitNormalTol)
-    throw Error(where,
-                std::string(what) + " " + std::to_string(i) + " has normal (" +
-                    std::to_string(n.x()) + ", " + std::to_string(n.y()) + ", " +
-                    std::to_string(n.z()) + ") and d " + std::to_string(d),
-                "normals must be finite unit vectors and d finite");
+[[noreturn]] void bad_normal(const Vec3& n, double d, const char* where, const char* what,
+                             std::size_t i) {
+  throw Error(where,
+              std::string(what) + " " + std::to_string(i) + " has normal (" +
+                  std::to_string(n.x()) + ", " + std::to_string(n.y()) + ", " +
+                  std::to_string(n.z()) + ") and d " + std::to_string(d),
+              "normals must be finite unit vectors and d finite");
+}
+
+/// Throws unless n is a finite unit vector and d finite (a NaN or inf in n fails the first test).
+inline void check_unit(const Vec3& n, double d, const char* where, const char* what,
+                       std::size_t i) {
+  if (!(std::abs(n.squaredNorm() - 1) <= kUnitNormalTol) || !std::isfinite(d))
+    bad_normal(n, d, where, what, i);
 }
 
 /// Checks the faces and returns max |d_i| (0 for no faces).
@@ -110,19 +117,16 @@ void DenseLp::validate() const {
                 "use 1 to " + std::to_string(kLpMaxVars));
   if (!(scale > 0) || !std::isfinite(scale))
     throw Error(where, "scale is " + std::to_string(scale), "give a positive finite length");
-  if (!c.allFinite() || !c.tail(kLpMaxVars - vars).isZero(0))
-    throw Error(where, "objective has a non-finite entry or one past its variables");
-  for (int j = 0; j < kLpMaxVars; ++j) {
+  if (!c.head(vars).allFinite()) throw Error(where, "objective has a non-finite entry");
+  for (int j = 0; j < vars; ++j) {
     if (std::isnan(lower[j]) || std::isnan(upper[j]) || lower[j] > upper[j] || lower[j] == kInf ||
         upper[j] == -kInf)
       throw Error(where, "variable " + std::to_string(j) + " has bounds [" +
                              std::to_string(lower[j]) + ", " + std::to_string(upper[j]) + "]");
   }
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (!rows[i].a.allFinite() || !std::isfinite(rows[i].b) ||
-        !rows[i].a.tail(kLpMaxVars - vars).isZero(0))
-      throw Error(where, "row " + std::to_string(i) +
-                             " has a non-finite entry or a coefficient past its variables");
+    if (!rows[i].a.head(vars).allFinite() || !std::isfinite(rows[i].b))
+      throw Error(where, "row " + std::to_string(i) + " has a non-finite entry");
   }
 }
 
