@@ -11,7 +11,12 @@
 // solve_batch stacks independent LPs into one block-diagonal problem (objective = sum of the
 // objectives): Ipopt's fixed cost per solve is shared, at the price of iterating until the
 // hardest LP converges. If the stacked solve does not end optimal (one LP infeasible, say), the
-// LPs are solved one by one instead. slice-bench-lp measures both.
+// LPs are solved one by one instead. Measured with slice-bench-lp (100 cut tests per set, one
+// core of a loaded 2-core machine), time per LP single vs stacked in batches of 10 / 50 / 100:
+//   8 rows   6.1 ms vs 1.3 / 0.9 / 0.8 ms      20 rows  7.9 ms vs 2.6 / 2.3 / 2.5 ms
+//   50 rows 10.3 ms vs 6.6 / 7.3 / 7.5 ms      200 rows: about equal (35 ms)
+// with the same error against exact. So the stacked form is kept for solve_batch (the slicer's
+// cut tests of one joint against many blocks are independent); solve() is a batch of one.
 #include <IpIpoptApplication.hpp>
 #include <IpSolveStatistics.hpp>
 #include <IpTNLP.hpp>
