@@ -156,23 +156,35 @@ std::unique_ptr<LpSolver> make_solver(LpBackend backend) {
 // unbounded region (a block of cones) from making the LP unbounded.
 PlaneFrame cut_test_lp(std::span<const Face> faces, const Plane& plane,
                        std::span<const Plane> edges, const Tolerances& tol, DenseLp& lp) {
-  const double dmax = check_faces(faces, "cut test");
   check_unit(plane.normal, plane.d, "cut test", "joint plane", 0);
-  for (std::size_t k = 0; k < edges.size(); ++k)
-    check_unit(edges[k].normal, edges[k].d, "cut test", "polygon edge", k);
-
   PlaneFrame f;
   plane_basis(plane.normal, f.u, f.v);
   f.p0 = plane.d * plane.normal;
-  lp.reset(3);
+  // Every field set here; the rows are overwritten in place (resize keeps the capacity and, at
+  // the same size, constructs nothing), the faces checked in the same pass.
+  lp.vars = 3;
+  lp.maximise = false;
   lp.c = LpVec(0, 0, 1, 0);
+  lp.lower.setConstant(-DenseLp::kInf);
+  lp.upper.setConstant(DenseLp::kInf);
+  lp.rows.resize(faces.size() + edges.size());
+  LpRow* row = lp.rows.data();
+  double dmax = 0;
+  for (std::size_t i = 0; i < faces.size(); ++i, ++row) {
+    const Face& face = faces[i];
+    check_unit(face.normal, face.d, "cut test", "face", i);
+    dmax = std::max(dmax, std::abs(face.d));
+    row->a = LpVec(face.normal.dot(f.u), face.normal.dot(f.v), -1, 0);
+    row->b = face.d - face.normal.dot(f.p0);
+  }
+  for (std::size_t k = 0; k < edges.size(); ++k, ++row) {
+    const Plane& e = edges[k];
+    check_unit(e.normal, e.d, "cut test", "polygon edge", k);
+    row->a = LpVec(e.normal.dot(f.u), e.normal.dot(f.v), -1, 0);
+    row->b = e.d - e.normal.dot(f.p0);
+  }
   lp.lower[2] = -(2 * dmax + tol.length_scale);
   lp.scale = std::max(block_scale(dmax, tol), std::abs(plane.d));
-  for (const Face& face : faces)
-    lp.add_row(LpVec(face.normal.dot(f.u), face.normal.dot(f.v), -1, 0),
-               face.d - face.normal.dot(f.p0));
-  for (const Plane& e : edges)
-    lp.add_row(LpVec(e.normal.dot(f.u), e.normal.dot(f.v), -1, 0), e.d - e.normal.dot(f.p0));
   return f;
 }
 
