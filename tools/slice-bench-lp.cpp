@@ -22,6 +22,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -88,11 +89,11 @@ std::vector<Case> make_set(Problem problem, int rows, int count, std::uint64_t s
       const Vec3 foot = b.centre - (n.dot(b.centre) - c.plane.d) * n;
       const Vec3 centre = foot + b.radius * rng.uniform(0, 1.5) * rng.perpendicular(n);
       const double r = b.radius * rng.log_uniform(-1, 0.3);
-      const double phase = rng.uniform(0, 2 * M_PI);
+      const double phase = rng.uniform(0, 2 * std::numbers::pi);
       for (int k = 0; k < n_edges; ++k) {
-        const double phi = phase + 2 * M_PI * k / n_edges;
+        const double phi = phase + 2 * std::numbers::pi * k / n_edges;
         const Vec3 e = (std::cos(phi) * e1 + std::sin(phi) * e2).normalized();
-        c.edges.push_back({e, e.dot(centre) + r * std::cos(M_PI / n_edges)});
+        c.edges.push_back({e, e.dot(centre) + r * std::cos(std::numbers::pi / n_edges)});
       }
     }
     c.faces = std::move(b.faces);

@@ -50,8 +50,16 @@ double check_faces(std::span<const Face> faces, const char* where) {
 }
 
 /// The LP's length scale: the block's size in its own frame, or L for a block of cones.
+/// Throws if the tolerances are not a positive length scale and non-negative tolerances.
 double block_scale(double dmax, const Tolerances& tol) {
-  return dmax > 0 ? dmax : std::max(tol.length_scale, 1e-300);
+  if (!(tol.length_scale > 0) || !std::isfinite(tol.length_scale) || !(tol.cut >= 0) ||
+      !(tol.prune >= 0) || !(tol.geometry >= 0))
+    throw Error("LP tolerances",
+                "length scale " + std::to_string(tol.length_scale) + ", cut " +
+                    std::to_string(tol.cut) + ", prune " + std::to_string(tol.prune) +
+                    ", geometry " + std::to_string(tol.geometry),
+                "use Tolerances::from_scale(L, rel) with L > 0 and rel >= 0");
+  return dmax > 0 ? dmax : tol.length_scale;
 }
 
 /// An orthonormal basis (U, V) of the plane with unit normal n, the same for the same n.
