@@ -23,13 +23,20 @@ std::string lower_case(std::string_view s) {
   return out;
 }
 
-void check_unit(const Vec3& n, double d, const char* where, const char* what, std::size_t i) {
-  if (!n.allFinite() || !std::isfinite(d) || std::abs(n.squaredNorm() - 1) > kUnitNormalTol)
-    throw Error(where,
-                std::string(what) + " " + std::to_string(i) + " has normal (" +
-                    std::to_string(n.x()) + ", " + std::to_string(n.y()) + ", " +
-                    std::to_string(n.z()) + ") and d " + std::to_string(d),
-                "normals must be finite unit vectors and d finite");
+[[noreturn]] void bad_normal(const Vec3& n, double d, const char* where, const char* what,
+                             std::size_t i) {
+  throw Error(where,
+              std::string(what) + " " + std::to_string(i) + " has normal (" +
+                  std::to_string(n.x()) + ", " + std::to_string(n.y()) + ", " +
+                  std::to_string(n.z()) + ") and d " + std::to_string(d),
+              "normals must be finite unit vectors and d finite");
+}
+
+/// Throws unless n is a finite unit vector and d finite (a NaN or inf in n fails the first test).
+inline void check_unit(const Vec3& n, double d, const char* where, const char* what,
+                       std::size_t i) {
+  if (!(std::abs(n.squaredNorm() - 1) <= kUnitNormalTol) || !std::isfinite(d))
+    bad_normal(n, d, where, what, i);
 }
 
 /// Checks the faces and returns max |d_i| (0 for no faces).
@@ -43,8 +50,16 @@ double check_faces(std::span<const Face> faces, const char* where) {
 }
 
 /// The LP's length scale: the block's size in its own frame, or L for a block of cones.
+/// Throws if the tolerances are not a positive length scale and non-negative tolerances.
 double block_scale(double dmax, const Tolerances& tol) {
-  return dmax > 0 ? dmax : std::max(tol.length_scale, 1e-300);
+  if (!(tol.length_scale > 0) || !std::isfinite(tol.length_scale) || !(tol.cut >= 0) ||
+      !(tol.prune >= 0) || !(tol.geometry >= 0))
+    throw Error("LP tolerances",
+                "length scale " + std::to_string(tol.length_scale) + ", cut " +
+                    std::to_string(tol.cut) + ", prune " + std::to_string(tol.prune) +
+                    ", geometry " + std::to_string(tol.geometry),
+                "use Tolerances::from_scale(L, rel) with L > 0 and rel >= 0");
+  return dmax > 0 ? dmax : tol.length_scale;
 }
 
 /// An orthonormal basis (U, V) of the plane with unit normal n, the same for the same n.
@@ -110,19 +125,16 @@ void DenseLp::validate() const {
                 "use 1 to " + std::to_string(kLpMaxVars));
   if (!(scale > 0) || !std::isfinite(scale))
     throw Error(where, "scale is " + std::to_string(scale), "give a positive finite length");
-  if (!c.allFinite() || !c.tail(kLpMaxVars - vars).isZero(0))
-    throw Error(where, "objective has a non-finite entry or one past its variables");
-  for (int j = 0; j < kLpMaxVars; ++j) {
+  if (!c.head(vars).allFinite()) throw Error(where, "objective has a non-finite entry");
+  for (int j = 0; j < vars; ++j) {
     if (std::isnan(lower[j]) || std::isnan(upper[j]) || lower[j] > upper[j] || lower[j] == kInf ||
         upper[j] == -kInf)
       throw Error(where, "variable " + std::to_string(j) + " has bounds [" +
                              std::to_string(lower[j]) + ", " + std::to_string(upper[j]) + "]");
   }
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (!rows[i].a.allFinite() || !std::isfinite(rows[i].b) ||
-        !rows[i].a.tail(kLpMaxVars - vars).isZero(0))
-      throw Error(where, "row " + std::to_string(i) +
-                             " has a non-finite entry or a coefficient past its variables");
+    if (!rows[i].a.head(vars).allFinite() || !std::isfinite(rows[i].b))
+      throw Error(where, "row " + std::to_string(i) + " has a non-finite entry");
   }
 }
 
@@ -152,23 +164,35 @@ std::unique_ptr<LpSolver> make_solver(LpBackend backend) {
 // unbounded region (a block of cones) from making the LP unbounded.
 PlaneFrame cut_test_lp(std::span<const Face> faces, const Plane& plane,
                        std::span<const Plane> edges, const Tolerances& tol, DenseLp& lp) {
-  const double dmax = check_faces(faces, "cut test");
   check_unit(plane.normal, plane.d, "cut test", "joint plane", 0);
-  for (std::size_t k = 0; k < edges.size(); ++k)
-    check_unit(edges[k].normal, edges[k].d, "cut test", "polygon edge", k);
-
   PlaneFrame f;
   plane_basis(plane.normal, f.u, f.v);
   f.p0 = plane.d * plane.normal;
-  lp.reset(3);
+  // Every field set here; the rows are overwritten in place (resize keeps the capacity and, at
+  // the same size, constructs nothing), the faces checked in the same pass.
+  lp.vars = 3;
+  lp.maximise = false;
   lp.c = LpVec(0, 0, 1, 0);
+  lp.lower.setConstant(-DenseLp::kInf);
+  lp.upper.setConstant(DenseLp::kInf);
+  lp.rows.resize(faces.size() + edges.size());
+  LpRow* row = lp.rows.data();
+  double dmax = 0;
+  for (std::size_t i = 0; i < faces.size(); ++i, ++row) {
+    const Face& face = faces[i];
+    check_unit(face.normal, face.d, "cut test", "face", i);
+    dmax = std::max(dmax, std::abs(face.d));
+    row->a = LpVec(face.normal.dot(f.u), face.normal.dot(f.v), -1, 0);
+    row->b = face.d - face.normal.dot(f.p0);
+  }
+  for (std::size_t k = 0; k < edges.size(); ++k, ++row) {
+    const Plane& e = edges[k];
+    check_unit(e.normal, e.d, "cut test", "polygon edge", k);
+    row->a = LpVec(e.normal.dot(f.u), e.normal.dot(f.v), -1, 0);
+    row->b = e.d - e.normal.dot(f.p0);
+  }
   lp.lower[2] = -(2 * dmax + tol.length_scale);
   lp.scale = std::max(block_scale(dmax, tol), std::abs(plane.d));
-  for (const Face& face : faces)
-    lp.add_row(LpVec(face.normal.dot(f.u), face.normal.dot(f.v), -1, 0),
-               face.d - face.normal.dot(f.p0));
-  for (const Plane& e : edges)
-    lp.add_row(LpVec(e.normal.dot(f.u), e.normal.dot(f.v), -1, 0), e.d - e.normal.dot(f.p0));
   return f;
 }
 

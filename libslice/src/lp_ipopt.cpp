@@ -10,8 +10,14 @@
 //
 // solve_batch stacks independent LPs into one block-diagonal problem (objective = sum of the
 // objectives): Ipopt's fixed cost per solve is shared, at the price of iterating until the
-// hardest LP converges. If the stacked solve does not end optimal (one LP infeasible, say), the
-// LPs are solved one by one instead. slice-bench-lp measures both.
+// hardest LP converges and factorizing a larger KKT matrix. If the stacked solve does not end
+// optimal (one LP infeasible, say), the LPs are solved one by one instead. Measured with
+// slice-bench-lp (pipelines/bench/results/lp.csv: 200 cut tests per set, batches of 50, one
+// core of a shared 2-core machine), median time per LP single / stacked:
+//   8 rows 5.5 / 0.95 ms   20 rows 8.2 / 2.4 ms   50 rows 7.3 / 7.0 ms   200 rows 18.8 / 30.9 ms
+// with the same error against exact. So solve_batch stacks LPs of up to kStackMaxRows rows
+// (the slicer's cut tests of one joint against many blocks are independent) and solves
+// larger ones one by one; solve() is a batch of one.
 #include <IpIpoptApplication.hpp>
 #include <IpSolveStatistics.hpp>
 #include <IpTNLP.hpp>
@@ -37,6 +43,9 @@ constexpr double kIpoptInf = 1e19;
 // Mehrotra's method solves these LPs in 10-30 iterations; more means it is stuck (infeasible).
 constexpr int kMehrotraMaxIter = 200;
 constexpr int kMaxIter = 3000;
+// solve_batch stacks LPs with at most this many rows on average, else solves them one by one
+// (stacking lost at 200 rows; see above).
+constexpr std::size_t kStackMaxRows = 100;
 
 /// Several DenseLps as one NLP: variables and rows concatenated, a block-diagonal Jacobian.
 class StackedLp final : public Ipopt::TNLP {
@@ -195,11 +204,14 @@ class IpoptSolver final : public LpSolver {
     if (lps.empty()) return;
     std::vector<const DenseLp*> ptrs;
     ptrs.reserve(lps.size());
+    std::size_t rows = 0;
     for (const DenseLp& lp : lps) {
       lp.validate();
       ptrs.push_back(&lp);
+      rows += lp.rows.size();
     }
-    if (solve_stacked(ptrs, out) != LpStatus::optimal && lps.size() > 1)
+    const bool stack = lps.size() > 1 && rows <= kStackMaxRows * lps.size();
+    if (!stack || solve_stacked(ptrs, out) != LpStatus::optimal)
       for (std::size_t k = 0; k < lps.size(); ++k) solve_stacked({&ptrs[k], 1}, out.subspan(k, 1));
   }
 

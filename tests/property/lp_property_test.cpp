@@ -25,9 +25,13 @@ using slice::LpStatus;
 // asks for 1e-12 L). The max matters only for face redundancy: without the tested face a block
 // can reach 1e4 L along a spike, where one ulp is already 2e-12 L.
 constexpr double kNativeRelErr = 1e-12;
-// ipopt stops at tol = 1e-10 on the LP scaled to O(1) (lp_ipopt.cpp); slice-bench-lp measures
-// its error against exact at a few 1e-10 L at most. The test allows 1e-8 L and asserts
-// identical decisions whenever exact's answer is farther than that from the threshold.
+// ipopt stops at tol = 1e-10 on the LP scaled to O(1) (lp_ipopt.cpp). slice-bench-lp measures
+// its error against exact at <= 1e-10 L on cut tests and <= 4e-9 L on Chebyshev balls (200
+// rows). The test allows 5e-10 L on cut tests, so that a touching plane (s* = 0, 1e-9 L from
+// the threshold -tol.cut) is still outside the band and its decision asserted, and 1e-8 L on
+// the other problems; decisions must agree whenever exact's answer is farther than that from
+// the threshold.
+constexpr double kIpoptCutRelErr = 5e-10;
 constexpr double kIpoptRelErr = 1e-8;
 constexpr double kRelTol = 1e-9;  // Tolerances::from_scale(L, 1e-9): cut = prune = 1e-9 L
 
@@ -320,7 +324,7 @@ TEST_CASE("ipopt agrees with exact outside a wider band", "[property][lp][ipopt]
   const int threads = worker_threads(LpBackend::ipopt);
   SECTION("cut tests: 2,016 cases") {
     const long n = 36L * kCasesPerBlock;
-    check_report(run_cases(n, LpBackend::ipopt, threads, cut_cases(kIpoptRelErr)), n,
+    check_report(run_cases(n, LpBackend::ipopt, threads, cut_cases(kIpoptCutRelErr)), n,
                  "ipopt cut tests");
   }
   SECTION("redundant faces: 2,000 cases") {

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -194,12 +195,12 @@ inline std::vector<Plane> random_polygon(Rng& rng, const RandomBlock& b, const P
   const Vec3 c = foot + b.radius * rng.uniform(0, 2.5) * rng.perpendicular(n);
   const double r = b.radius * rng.log_uniform(-1.5, 0.5);
   const int k = 3 + rng.index(6);
-  const double phase = rng.uniform(0, 2 * M_PI);
+  const double phase = rng.uniform(0, 2 * std::numbers::pi);
   std::vector<Plane> edges;
   for (int i = 0; i < k; ++i) {
-    const double phi = phase + 2 * M_PI * i / k;
+    const double phi = phase + 2 * std::numbers::pi * i / k;
     const Vec3 e = (std::cos(phi) * u + std::sin(phi) * v).normalized();
-    edges.push_back({e, e.dot(c) + r * std::cos(M_PI / k)});
+    edges.push_back({e, e.dot(c) + r * std::cos(std::numbers::pi / k)});
   }
   return edges;
 }

@@ -339,3 +339,14 @@ TEST_CASE("batched solves give the single-solve answers", "[lp]") {
   CHECK(out[1].status == LpStatus::infeasible);
   CHECK(out[2].status == LpStatus::optimal);
 }
+
+TEST_CASE("tolerances without a positive length scale are bad input", "[lp]") {
+  const auto solver = slice::make_solver(LpBackend::native);
+  slice::Tolerances tol = kTol;
+  tol.length_scale = 0;
+  CHECK_THROWS_AS(slice::chebyshev_ball(*solver, unit_cube(), tol), slice::Error);
+  tol = kTol;
+  tol.cut = std::nan("");
+  CHECK_THROWS_AS(slice::cut_test(*solver, unit_cube(), {Vec3::UnitX(), 0.5}, {}, tol),
+                  slice::Error);
+}
