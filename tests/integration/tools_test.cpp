@@ -111,6 +111,24 @@ TEST_CASE("the example scenes give the expected joints", "[tools]") {
     CHECK(j["joints"]["by_kind"]["rock"] == 103);
     CHECK_THAT(j["domain"]["volume"].get<double>(), Catch::Matchers::WithinRel(1e6, 1e-12));
   }
+  SECTION("rock-slope: every joint kind, polygons, a zone, a non-box domain") {
+    REQUIRE(run_tool("slice-joints", {test::data_path("rock-slope.toml").string(), "-o",
+                                      (tmp / "j.h5").string()})
+                .exit_code == 0);
+    const auto j = info_json(tmp / "j.h5");
+    CHECK(j["joints"]["total"] == 22);
+    CHECK(j["joints"]["persistent"] == 19);
+    CHECK(j["joints"]["polygons"] == 3);
+    CHECK(j["joints"]["deterministic"] == 5);
+    CHECK(j["joints"]["by_kind"]["boundary"] == 1);
+    CHECK(j["joints"]["by_kind"]["construction"] == 1);
+    CHECK(j["joints"]["by_kind"]["rock"] == 20);
+    CHECK(j["joints"]["by_set"][0]["joints"] == 12);  // bedding
+    CHECK(j["joints"]["by_set"][1]["joints"] == 5);   // cross joints
+    CHECK(j["zones"] == 1);
+    CHECK(j["domain"]["planes"] == 6);
+    CHECK_THAT(j["domain"]["volume"].get<double>(), Catch::Matchers::WithinRel(19500.0, 1e-12));
+  }
 }
 
 TEST_CASE("bad input: exit 1, one line naming file, line and key, nothing written", "[tools]") {
