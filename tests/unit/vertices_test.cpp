@@ -2,6 +2,7 @@
 // vertices where four or more planes meet, faces without area, and rock-bridge fractions.
 #include "slice/vertices.hpp"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <sstream>
@@ -111,6 +112,18 @@ TEST_CASE("a tetrahedron: volume, centroid and inertia by hand", "[vertices]") {
   for (int k = 3; k < 6; ++k) CHECK_THAT(g.inertia[std::size_t(k)], WithinRel(1.0 / 480, 1e-12));
   CHECK_THAT(g.face_area[3], WithinRel(std::sqrt(3.0) / 2, 1e-12));
   for (const auto& loop : g.loops) CHECK(loop.size() == 3);
+}
+
+TEST_CASE("a block whose origin is outside it still gets its geometry", "[vertices]") {
+  // The dual hull needs a point inside: with the origin outside (a face with d < 0), the
+  // Chebyshev centre is found by an LP first.
+  const auto blk = block_of(box(Vec3(0, 0, 0), Vec3(1, 2, 3)), Vec3(5, -4, 1));
+  REQUIRE(std::any_of(blk.faces.begin(), blk.faces.end(), [](const auto& f) { return f.d < 0; }));
+  const auto g = slice::block_geometry(blk, kNoJoints, kTol);
+  CHECK(g.vertices.size() == 8);
+  check_consistent(blk, g, kTol);
+  CHECK_THAT(g.volume, WithinRel(6, 1e-12));
+  CHECK_THAT((g.centroid - Vec3(0.5, 1, 1.5)).norm(), WithinAbs(0, 1e-12));
 }
 
 TEST_CASE("mass_properties of a tetrahedron does not depend on the reference point", "[vertices]") {
