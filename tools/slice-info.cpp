@@ -117,6 +117,20 @@ int main(int argc, char** argv) {
                      {"removed", removed},
                      {"faces", faces},
                      {"pruned", bs.pruned}};
+      if (bs.geometry) {  // /geometry, from slice-vertices
+        const auto& g = *bs.geometry;
+        double volume = 0, removed_volume = 0;
+        std::size_t bridge_faces = 0;
+        for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
+          volume += g.volume[b];
+          removed_volume += (bs.blocks[b].flags & slice::kRemoved) ? g.volume[b] : 0;
+        }
+        for (const double f : g.face_joint_fraction) bridge_faces += f < 1 ? 1 : 0;
+        j["geometry"] = {{"vertices", g.vertices.size()},
+                         {"volume", volume},
+                         {"removed_volume", removed_volume},
+                         {"rock_bridge_faces", bridge_faces}};
+      }
     }
     if (json)
       std::cout << j.dump(2) << '\n';

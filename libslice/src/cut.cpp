@@ -420,6 +420,7 @@ PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& prog
       progress("prune", i + 1, bs.blocks.size());
   }
   bs.pruned = true;
+  bs.geometry.reset();  // faces changed: vertices and loops no longer match
   st.seconds = seconds_since(t0);
   return st;
 }

@@ -1,5 +1,6 @@
 #include "slice/h5io.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -176,6 +177,72 @@ void check_joints(const Checker& c, const JointSystem& js) {
   c.finite(js.options.tolerance, "/options attribute tolerance");
 }
 
+// /geometry against the blocks it describes: CSR shapes, indices, finite and positive values.
+void check_geometry(const Checker& c, const BlockSystem& bs) {
+  const Geometry& g = *bs.geometry;
+  const std::size_t n = bs.blocks.size();
+  std::size_t faces = 0;
+  for (const Block& b : bs.blocks) faces += b.faces.size();
+  const auto rows = [&](const std::string& name, std::size_t got, std::size_t want,
+                        const std::string& because) {
+    if (got != want)
+      c.fail("/geometry/" + name + " has " + str(got) + " rows; expected " + str(want) + " (" +
+             because + ")");
+  };
+  const auto offsets = [&](const std::string& name, const std::vector<std::int64_t>& off,
+                           std::size_t count, const std::string& what, std::size_t flat) {
+    rows(name, off.size(), count + 1, what + " + 1");
+    for (std::size_t i = 0; i < off.size(); ++i)
+      if ((i == 0 && off[0] != 0) || (i > 0 && off[i] < off[i - 1]))
+        c.fail(at("/geometry/" + name, i) + " is " + str(off[i]) +
+               "; offsets start at 0 and never decrease");
+    if (off.back() != static_cast<std::int64_t>(flat))
+      c.fail("/geometry/" + name + " ends at " + str(off.back()) + " but its flat dataset has " +
+             str(flat) + " rows");
+  };
+  offsets("vertex_offset", g.vertex_offset, n, "blocks", g.vertices.size());
+  offsets("face_vertex_offset", g.face_vertex_offset, faces, "faces", g.face_vertices.size());
+  rows("volume", g.volume.size(), n, "blocks");
+  rows("centroid", g.centroid.size(), n, "blocks");
+  rows("inertia", g.inertia.size(), n, "blocks");
+  rows("face_area", g.face_area.size(), faces, "faces");
+  rows("face_joint_fraction", g.face_joint_fraction.size(), faces, "faces");
+
+  for (std::size_t v = 0; v < g.vertices.size(); ++v)
+    c.finite(g.vertices[v], at("/geometry/vertices", v));
+  std::size_t face = 0;
+  for (std::size_t b = 0; b < n; ++b) {
+    const std::int64_t nv = g.vertex_offset[b + 1] - g.vertex_offset[b];
+    for (std::size_t f = 0; f < bs.blocks[b].faces.size(); ++f, ++face) {
+      const auto lo = static_cast<std::size_t>(g.face_vertex_offset[face]);
+      const auto hi = static_cast<std::size_t>(g.face_vertex_offset[face + 1]);
+      if (hi - lo < 3)
+        c.fail(at("/geometry/face_vertex_offset", face) + " gives face " + str(face) + " " +
+               str(hi - lo) + " vertices; a face has at least 3");
+      for (std::size_t k = lo; k < hi; ++k)
+        if (g.face_vertices[k] < 0 || g.face_vertices[k] >= nv)
+          c.fail(at("/geometry/face_vertices", k) + " is " + str(g.face_vertices[k]) +
+                 "; expected an index into block " + str(b) + "'s " + str(nv) + " vertices");
+      c.finite(g.face_area[face], at("/geometry/face_area", face));
+      if (!(g.face_area[face] > 0))
+        c.fail(at("/geometry/face_area", face) + " is " + num(g.face_area[face]) +
+               "; a face has positive area");
+      const double fr = g.face_joint_fraction[face];
+      if (!(fr >= 0 && fr <= 1))
+        c.fail(at("/geometry/face_joint_fraction", face) + " is " + num(fr) +
+               "; expected a fraction in [0, 1]");
+    }
+    c.finite(g.volume[b], at("/geometry/volume", b));
+    if (!(g.volume[b] > 0))
+      c.fail(at("/geometry/volume", b) + " is " + num(g.volume[b]) +
+             "; a block has positive volume");
+    c.finite(g.centroid[b], at("/geometry/centroid", b));
+    for (const double x : g.inertia[b])
+      if (!std::isfinite(x))
+        c.fail(at("/geometry/inertia", b) + " is " + row_text(g.inertia[b].data(), 6));
+  }
+}
+
 void check_blocks(const Checker& c, const BlockSystem& bs) {
   check_joints(c, bs.joints);
   const auto joints = static_cast<std::int64_t>(bs.joints.joints.size());
@@ -199,6 +266,7 @@ void check_blocks(const Checker& c, const BlockSystem& bs) {
       c.fail(at("/blocks/cluster", b) + " is " + str(blk.cluster) +
              "; expected -1 (none) or a cluster id");
   }
+  if (bs.geometry) check_geometry(c, bs);
 }
 
 // --- writing ---------------------------------------------------------------------------------
@@ -371,6 +439,24 @@ void write_blocks_group(const Group& root, const BlockSystem& bs) {
   g.write<double>("bsphere", bsphere, 4);
   g.write<std::uint8_t>("flags", flags);
   g.write<std::int64_t>("cluster", cluster);
+}
+
+void write_geometry_group(const Group& root, const Geometry& geo) {
+  std::vector<double> vertices, centroid, inertia;
+  vertices.reserve(3 * geo.vertices.size());
+  for (const Vec3& v : geo.vertices) vertices.insert(vertices.end(), v.data(), v.data() + 3);
+  for (const Vec3& v : geo.centroid) centroid.insert(centroid.end(), v.data(), v.data() + 3);
+  for (const Inertia& i : geo.inertia) inertia.insert(inertia.end(), i.begin(), i.end());
+  const Group g = root.create_group("geometry");
+  g.write<std::int64_t>("vertex_offset", geo.vertex_offset);
+  g.write<double>("vertices", vertices, 3);
+  g.write<std::int64_t>("face_vertex_offset", geo.face_vertex_offset);
+  g.write<std::int64_t>("face_vertices", geo.face_vertices);
+  g.write<double>("volume", geo.volume);
+  g.write<double>("centroid", centroid, 3);
+  g.write<double>("inertia", inertia, 6);
+  g.write<double>("face_area", geo.face_area);
+  g.write<double>("face_joint_fraction", geo.face_joint_fraction);
 }
 
 // Validates, then writes to "<out>.partial" and renames it onto `out`.
@@ -685,6 +771,45 @@ std::vector<Block> read_blocks_group(const Group& root, bool& pruned) {
   return blocks;
 }
 
+// /geometry, shapes checked against the blocks before anything is indexed; values are checked
+// by check_geometry.
+Geometry read_geometry_group(const Group& root, const std::vector<Block>& blocks) {
+  const Group g = root.open_group("geometry");
+  const std::size_t n = blocks.size();
+  std::size_t faces = 0;
+  for (const Block& b : blocks) faces += b.faces.size();
+  const std::string per_block = "the rows of /blocks/origin";
+  const std::string per_face = "the rows of /blocks/face_normal";
+  Geometry geo;
+  geo.vertex_offset = g.read<std::int64_t>("vertex_offset");
+  const auto vertices = g.read<double>("vertices", 3);
+  check_offsets(g, "vertex_offset", geo.vertex_offset, n, "blocks", vertices.size() / 3,
+                "/geometry/vertices");
+  geo.face_vertex_offset = g.read<std::int64_t>("face_vertex_offset");
+  geo.face_vertices = g.read<std::int64_t>("face_vertices");
+  check_offsets(g, "face_vertex_offset", geo.face_vertex_offset, faces, "faces",
+                geo.face_vertices.size(), "/geometry/face_vertices");
+  geo.volume = g.read<double>("volume");
+  expect_rows(g, "volume", geo.volume.size(), n, per_block);
+  const auto centroid = g.read<double>("centroid", 3);
+  expect_rows(g, "centroid", centroid.size() / 3, n, per_block);
+  const auto inertia = g.read<double>("inertia", 6);
+  expect_rows(g, "inertia", inertia.size() / 6, n, per_block);
+  geo.face_area = g.read<double>("face_area");
+  expect_rows(g, "face_area", geo.face_area.size(), faces, per_face);
+  geo.face_joint_fraction = g.read<double>("face_joint_fraction");
+  expect_rows(g, "face_joint_fraction", geo.face_joint_fraction.size(), faces, per_face);
+  geo.vertices.reserve(vertices.size() / 3);
+  for (std::size_t v = 0; v < vertices.size() / 3; ++v) geo.vertices.push_back(vec3(vertices, v));
+  for (std::size_t b = 0; b < n; ++b) {
+    geo.centroid.push_back(vec3(centroid, b));
+    Inertia in{};
+    std::copy_n(inertia.begin() + std::ptrdiff_t(6 * b), 6, in.begin());
+    geo.inertia.push_back(in);
+  }
+  return geo;
+}
+
 }  // namespace
 
 const char* to_string(FileKind k) { return k == FileKind::joints ? "joints" : "blocks"; }
@@ -696,8 +821,10 @@ void write_joints(const fs::path& out, const JointSystem& js, const Provenance& 
 
 void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& prov) {
   check_blocks(Checker(out.string(), kNotWritten), bs);
-  write_file(out, FileKind::blocks, prov, bs.joints,
-             [&](const Group& root) { write_blocks_group(root, bs); });
+  write_file(out, FileKind::blocks, prov, bs.joints, [&](const Group& root) {
+    write_blocks_group(root, bs);
+    if (bs.geometry) write_geometry_group(root, *bs.geometry);
+  });
 }
 
 FileHeader read_header(const fs::path& in) {
@@ -720,6 +847,7 @@ BlockSystem read_blocks(const fs::path& in) {
   BlockSystem bs;
   bs.joints = read_joint_groups(f.root());
   bs.blocks = read_blocks_group(f.root(), bs.pruned);
+  if (f.root().exists("geometry")) bs.geometry = read_geometry_group(f.root(), bs.blocks);
   check_blocks(Checker(in.string(), kBlocksFix), bs);
   return bs;
 }

@@ -2,6 +2,7 @@
 // Planes, half-spaces and blocks. A convex block is nothing but its faces (DESIGN section 1).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -39,6 +40,30 @@ struct Block {
   Eigen::Vector4d bsphere = Eigen::Vector4d::Zero();  // bounding sphere: centre (global), radius
   std::uint8_t flags = 0;                             // BlockFlag bits
   std::int64_t cluster = -1;                          // cluster id; -1 = none
+};
+
+/// Inertia tensor components, in the order of HDF5 /geometry/inertia: xx yy zz xy yz zx.
+/// The tensor of the block at unit density about its centroid, I = integral of
+/// (|r|^2 Id - r r^T) dV, so off-diagonal entries carry the minus sign (Ixy = -integral x y dV).
+using Inertia = std::array<double, 6>;
+
+/// Vertices, face loops and mass properties of every block of a block system (HDF5 /geometry,
+/// DESIGN section 7), stored as the file stores them: CSR arrays. Per-block arrays have one row
+/// per block (B rows); per-face arrays one row per face, in the order of the blocks' faces (F
+/// rows, the rows of /blocks/face_normal).
+struct Geometry {
+  std::vector<std::int64_t> vertex_offset{0};       // B + 1: block b owns vertices [o_b, o_b+1)
+  std::vector<Vec3> vertices;                       // V, global frame
+  std::vector<std::int64_t> face_vertex_offset{0};  // F + 1: face f's loop is [o_f, o_f+1)
+  std::vector<std::int64_t> face_vertices;          // FV: indices into the block's own vertices
+                                                    //   (0-based per block), counter-clockwise
+                                                    //   seen from outside
+  std::vector<double> volume;                       // B
+  std::vector<Vec3> centroid;                       // B, global frame
+  std::vector<Inertia> inertia;                     // B, about the centroid, unit density
+  std::vector<double> face_area;                    // F
+  std::vector<double> face_joint_fraction;          // F: part of the face inside its joint's
+                                                    //   polygon (1: persistent or domain face)
 };
 
 }  // namespace slice

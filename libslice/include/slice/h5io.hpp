@@ -4,6 +4,7 @@
 // (no time stamps: the same content gives the same bytes); readers validate everything and
 // throw Error naming the file, the dataset, the row and the fix.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,11 +37,14 @@ struct FileHeader {
   Provenance provenance;
 };
 
-/// blocks.h5: the joint system it was cut from plus the blocks.
+/// blocks.h5: the joint system it was cut from plus the blocks, and their geometry once
+/// slice-vertices has computed it (/geometry; vertices.hpp). Anything that changes the blocks'
+/// faces must reset `geometry`: the writer refuses geometry that does not match the faces.
 struct BlockSystem {
   JointSystem joints;
   std::vector<Block> blocks;
   bool pruned = false;
+  std::optional<Geometry> geometry;
 };
 
 void write_joints(const std::filesystem::path& out, const JointSystem& js, const Provenance& prov);

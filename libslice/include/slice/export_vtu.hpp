@@ -1,0 +1,34 @@
+#pragma once
+// VTK XML unstructured grids for ParaView (DESIGN section 9), written with VTK 9's
+// vtkXMLUnstructuredGridWriter: appended raw binary data, zlib-compressed, 64-bit headers.
+// Outputs are atomic ("<out>.partial", renamed when complete) and deterministic (the same
+// blocks give the same bytes).
+#include <cstddef>
+#include <filesystem>
+
+#include "slice/h5io.hpp"
+
+namespace slice {
+
+struct VtuStats {
+  std::size_t cells = 0;  // blocks or joint polygons written
+  std::size_t points = 0;
+  std::size_t skipped = 0;  // removed blocks, or joints that do not meet the domain
+};
+
+/// blocks.vtu: one VTK_POLYHEDRON cell per block that is not removed, from /geometry (faces
+/// counter-clockwise from outside, as VTK wants them; each block has its own points). Cell data:
+/// block_id (int64: the row in blocks.h5), volume, inradius, cluster (int64, -1 = none),
+/// boundary (uint8, 0/1), aspect_ratio (bounding-sphere radius / inscribed radius). VTK has no
+/// face data for polyhedron cells, so face-level values stay in the HDF5 file. Throws Error if
+/// the system has no geometry (run slice-vertices) or the file cannot be written.
+VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& bs);
+
+/// joints.vtu: one VTK_POLYGON cell per joint, its part inside the domain (a persistent joint is
+/// its plane clipped to the domain; a polygon joint its polygon clipped to the domain). Joints
+/// that do not meet the domain are left out. Cell data: joint_id (int64: the row in /joints),
+/// set (int32, -1 = deterministic), kind (uint8: 0 rock, 1 construction, 2 boundary),
+/// persistent (uint8), friction_angle [degrees], cohesion [Pa].
+VtuStats write_joints_vtu(const std::filesystem::path& out, const JointSystem& js);
+
+}  // namespace slice

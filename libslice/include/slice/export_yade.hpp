@@ -1,0 +1,56 @@
+#pragma once
+// YADE models (DESIGN section 9): a Python script that `yade -n -x model.py` runs as is, with the
+// block data inside it (one line per block). Two shapes:
+//   polyhedra         vertex-based Polyhedra bodies (YADE as Debian packages it);
+//   potential_blocks  face-based PotentialBlock bodies (YADE built with ENABLE_POTENTIAL_BLOCKS;
+//                     the script stops with a clear message on a YADE without them).
+// Rules, the same for both:
+//   - one body per block that is not removed;
+//   - one material per block; its friction angle is the smallest friction angle of the joints
+//     of the block's faces, over rock and boundary joints (domain faces and construction joints
+//     are no contacts and carry none); a block with no such face gets default_friction_deg;
+//   - boundary blocks are fixed (blockedDOFs 'xyzXYZ');
+//   - the blocks of a cluster (joined across construction joints) are one clump; a clump with a
+//     boundary block is fixed;
+//   - engines for a settling run under gravity along -z; with steps > 0 the script runs them.
+// Numbers are written in their shortest exact form, so the same blocks give the same bytes.
+#include <cstddef>
+#include <filesystem>
+#include <string>
+
+#include "slice/h5io.hpp"
+
+namespace slice {
+
+enum class YadeShape { polyhedra, potential_blocks };
+
+struct YadeOptions {
+  YadeShape shape = YadeShape::polyhedra;
+  long steps = 0;                    // 0: build the model only; N: run N steps at the end
+  double density = 2650;             // kg/m3 (granite-like rock)
+  double young = 1e9;                // Polyhedra: PolyhedraMat.young, the volumetric contact
+                                     //   stiffness [N/m3]; PotentialBlock: kn [N/m] per m2
+  double poisson = 0.25;             // Polyhedra: shear/normal stiffness ratio (PolyhedraMat)
+  double default_friction_deg = 30;  // blocks with no rock or boundary joint face
+  double damping = 0.3;              // NewtonIntegrator's numerical damping
+  double gravity = 9.81;             // m/s2, along -z
+  double timestep_factor = 0.2;      // O.dt = factor * sqrt(m / k) of the smallest block
+  double pb_rounding = 0.05;         // PotentialBlock r = pb_rounding * inscribed radius
+  std::string source;                // the input file, named in the script's header
+  /// Throws Error naming the first bad option.
+  void validate() const;
+};
+
+struct YadeStats {
+  std::size_t bodies = 0, fixed = 0, clumps = 0, removed = 0;
+};
+
+/// The friction angle [degrees] the rule above gives block `b` of `bs`.
+double block_friction_deg(const BlockSystem& bs, std::size_t b, double default_friction_deg);
+
+/// Writes the script atomically (to "<out>.partial", renamed when complete). Needs bs.geometry
+/// (slice-vertices); throws Error if missing or if the file cannot be written.
+YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem& bs,
+                            const YadeOptions& opt);
+
+}  // namespace slice

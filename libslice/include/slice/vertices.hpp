@@ -1,0 +1,78 @@
+#pragma once
+// Vertices, face loops and mass properties of the blocks that survive slicing, computed once at
+// the end (DESIGN sections 1, 3 and 7). Slicing keeps only half-spaces; this is where a block
+// becomes a polyhedron.
+//
+// Method: the block's faces n_i . (x - o) <= d_i about an interior point o (its Chebyshev
+// centre, d_i >= inradius > 0) are dual to the points n_i / d_i; the convex hull of those points
+// (CGAL, exact predicates) has one facet per vertex of the block and one vertex per face. So
+// the hull's combinatorics are consistent by construction: faces and vertices cannot disagree.
+// Where four or more planes meet, the hull splits the (exactly or nearly) coplanar dual facet
+// into triangles whose primal vertices coincide: these are merged when closer than the geometry
+// tolerance, so such a vertex is one vertex.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "slice/geometry.hpp"
+#include "slice/h5io.hpp"
+#include "slice/progress.hpp"
+#include "slice/tolerance.hpp"
+
+namespace slice {
+
+/// The geometry of one block.
+struct BlockGeometry {
+  std::vector<Vec3> vertices;                    // V by 3, global frame
+  std::vector<std::vector<std::int64_t>> loops;  // one per face, in Block::faces order: indices
+                                                 //   into vertices, counter-clockwise seen from
+                                                 //   outside (right-handed about the normal)
+  double volume = 0;
+  Vec3 centroid = Vec3::Zero();             // global frame
+  Inertia inertia{};                        // about the centroid, unit density (geometry.hpp)
+  std::vector<double> face_area;            // one per face
+  std::vector<double> face_joint_fraction;  // one per face, in [0, 1]
+};
+
+/// The geometry of block `b` (its faces must all touch it: a pruned block). `js` supplies the
+/// joint polygons for face_joint_fraction (faces of persistent joints and domain faces get 1);
+/// `id` names the block in messages. Throws Error naming the block and the face if a face has
+/// no area: fewer than three distinct vertices, or area < tol.geometry * its half perimeter
+/// (its in-plane width is below the tolerance), or a face that is not on the block at all.
+/// Such a face should have been pruned; it points at a slicer defect, not at bad input data.
+BlockGeometry block_geometry(const Block& b, const JointSystem& js, const Tolerances& tol,
+                             std::size_t id = 0);
+
+/// Mass properties of a closed polyhedron given by counter-clockwise face loops (indices into
+/// `vertices`), by tetrahedra from `about` (any point; an interior one is most accurate).
+struct MassProperties {
+  double volume = 0;
+  Vec3 centroid = Vec3::Zero();
+  Inertia inertia{};  // about the centroid, unit density
+};
+MassProperties mass_properties(const std::vector<Vec3>& vertices,
+                               const std::vector<std::vector<std::int64_t>>& loops,
+                               const Vec3& about);
+
+/// Newell's vector of a polygon: its normal times twice its area (right-handed about the loop).
+Vec3 newell_normal(const std::vector<Vec3>& polygon);
+
+/// The convex polygon `polygon` clipped by the half-space `h` (normal . x <= d); vertices in
+/// order. Sutherland-Hodgman; points on the plane are kept.
+std::vector<Vec3> clip_polygon(const std::vector<Vec3>& polygon, const Plane& h);
+
+/// A joint's polygon in global coordinates, counter-clockwise about its upward normal; empty
+/// for a persistent joint.
+std::vector<Vec3> joint_polygon(const Joint& j);
+
+struct GeometryStats {
+  std::size_t blocks = 0, vertices = 0, faces = 0;
+  double seconds = 0;  // compute_geometry's own time (no file I/O)
+};
+
+/// Computes bs.geometry for every block (removed blocks too, so volumes add up to the domain).
+/// The blocks must be pruned (bs.pruned): a redundant face has no polygon. Throws Error if not,
+/// or if a block has a face without area (block_geometry).
+GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress = {});
+
+}  // namespace slice

@@ -1,0 +1,311 @@
+#include "slice/export_yade.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "h5/h5.hpp"
+#include "slice/error.hpp"
+#include "slice/version.hpp"
+
+namespace slice {
+namespace {
+
+// Shortest text that reads back as the same double in Python ("0.1", "1e+300", "-0").
+std::string num(double v) {
+  std::array<char, 32> buf{};
+  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
+  return std::string(buf.data(), r.ptr);
+}
+
+std::string vec(const Vec3& v) {
+  // Appended piecewise: GCC 12 warns (-Wrestrict, a false positive) on "(" + a + ...
+  std::string s = "(";
+  s.append(num(v.x())).append(", ").append(num(v.y())).append(", ").append(num(v.z()));
+  return s.append(")");
+}
+
+// A Python string literal of any text (file names in comments are not enough: they may hold
+// quotes or newlines).
+std::string py_str(const std::string& s) {
+  std::string q = "'";
+  for (const char c : s) {
+    if (c == '\\' || c == '\'') q += '\\';
+    if (c == '\n') {
+      q += "\\n";
+      continue;
+    }
+    q += c;
+  }
+  return q + "'";
+}
+
+// Everything the script needs of one block.
+struct BodyData {
+  std::size_t block = 0;
+  bool fixed = false;
+  double friction = 0;
+  std::int64_t cluster = -1;
+  double volume = 0;
+  Vec3 centroid = Vec3::Zero();
+};
+
+const char* kHeader = R"(# Rules (rockslice README, "YADE models"):
+#  - one body per block that is not removed;
+#  - one material per block; its friction angle is the smallest friction angle of the joints of
+#    its faces, over rock and boundary joints (domain faces and construction joints are no
+#    contacts); a block with no such face gets DEFAULT_FRICTION_DEG;
+#  - boundary blocks are fixed; the blocks of a cluster (joined across construction joints) are
+#    one clump, fixed if it holds a boundary block;
+#  - gravity along -z; STEPS > 0 runs that many steps of the settling run at the end.
+)";
+
+}  // namespace
+
+void YadeOptions::validate() const {
+  const auto positive = [](double v, const char* name) {
+    if (!(std::isfinite(v) && v > 0))
+      throw Error(std::string("--") + name, "is " + num(v), "give a positive number");
+  };
+  if (steps < 0) throw Error("--yade-steps", "is " + std::to_string(steps), "give 0 or more");
+  positive(density, "yade-density");
+  positive(young, "yade-young");
+  positive(poisson, "yade-poisson");
+  positive(timestep_factor, "yade-timestep-factor");
+  if (!(gravity >= 0 && std::isfinite(gravity)))
+    throw Error("--yade-gravity", "is " + num(gravity), "give 0 or more");
+  if (!(damping >= 0 && damping < 1))
+    throw Error("--yade-damping", "is " + num(damping), "give a value in [0, 1)");
+  if (!(default_friction_deg >= 0 && default_friction_deg < 90))
+    throw Error("--yade-friction", "is " + num(default_friction_deg), "give an angle in [0, 90)");
+  if (!(pb_rounding > 0 && pb_rounding < 0.5))
+    throw Error("--pb-rounding", "is " + num(pb_rounding), "give a fraction in (0, 0.5)");
+}
+
+double block_friction_deg(const BlockSystem& bs, std::size_t b, double default_friction_deg) {
+  double phi = std::numeric_limits<double>::infinity();
+  for (const Face& f : bs.blocks[b].faces) {
+    if (f.joint < 0) continue;
+    const Joint& j = bs.joints.joints[std::size_t(f.joint)];
+    if (j.kind == JointKind::construction) continue;
+    phi = std::min(phi, j.friction_angle_deg);
+  }
+  return std::isfinite(phi) ? phi : default_friction_deg;
+}
+
+YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem& bs,
+                            const YadeOptions& opt) {
+  opt.validate();
+  if (!bs.geometry)
+    throw Error(out.string(), "the blocks have no vertices (no /geometry)",
+                "run slice-vertices on the blocks file first");
+  const Geometry& g = *bs.geometry;
+  const bool pb = opt.shape == YadeShape::potential_blocks;
+
+  std::vector<BodyData> bodies;
+  YadeStats st;
+  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
+    const Block& blk = bs.blocks[b];
+    if (blk.flags & kRemoved) {
+      ++st.removed;
+      continue;
+    }
+    bodies.push_back({b, (blk.flags & kBoundary) != 0,
+                      block_friction_deg(bs, b, opt.default_friction_deg), blk.cluster, g.volume[b],
+                      g.centroid[b]});
+    st.fixed += bodies.back().fixed ? 1 : 0;
+  }
+  std::map<std::int64_t, std::size_t> cluster_size;
+  for (const BodyData& d : bodies)
+    if (d.cluster >= 0) ++cluster_size[d.cluster];
+  for (const auto& [c, n] : cluster_size) st.clumps += n >= 2 ? 1 : 0;
+  st.bodies = bodies.size();
+
+  h5::PartialFile part(out);
+  {
+    std::ofstream s(part.path(), std::ios::binary);
+    if (!s)
+      throw Error(out.string(), "cannot create " + part.path().filename().string(),
+                  "check that the directory is writable");
+    s << "# rockslice " << version() << ": a YADE model of " << st.bodies << " blocks ("
+      << (pb ? "PotentialBlock" : "Polyhedra") << " bodies), " << st.fixed << " fixed, "
+      << st.clumps << " clumps.\n"
+      << "# Made by slice-export --format " << (pb ? "yade-potential-blocks" : "yade")
+      << " from the geometry of scene " << py_str(bs.joints.name) << ".\n"
+      << "# Run headless: yade -n -x model.py     With the GUI: yade model.py\n"
+      << "# Frame x East, y North, z Up; lengths in the scene's unit (m), mass in kg, time in s.\n"
+      << kHeader;
+    if (pb)
+      s << "# PotentialBlock bodies need a YADE built with ENABLE_POTENTIAL_BLOCKS=ON (Debian's\n"
+        << "# yade has none): planes a x + b y + c z = d about the block's centroid, rounded by\n"
+        << "# r = PB_ROUNDING x the inscribed radius (d is given unrounded and reduced by r "
+           "below),\n"
+        << "# R = the bounding radius about the centroid.\n";
+    s << "import math\n"
+      << "import sys\n"
+      << "from yade import config, log\n";
+    s << "from yade import " << (pb ? "potential_utils" : "polyhedra_utils") << "\n\n";
+    if (pb)
+      s << "if 'POTENTIAL_BLOCKS' not in config.features:\n"
+        << "    sys.exit('rockslice model: this YADE was built without potential blocks; rebuild "
+           "it with "
+           "ENABLE_POTENTIAL_BLOCKS=ON, or export with --format yade (Polyhedra)')\n\n";
+    s << "SOURCE = " << py_str(opt.source) << "\n"
+      << "STEPS = " << opt.steps << "\n"
+      << "DENSITY = " << num(opt.density) << "  # kg/m3\n"
+      << "YOUNG = " << num(opt.young)
+      << (pb ? "  # normal contact stiffness per unit area\n"
+             : "  # PolyhedraMat.young: volumetric contact stiffness [N/m3]\n")
+      << "POISSON = " << num(opt.poisson) << "  # shear / normal contact stiffness\n"
+      << "DEFAULT_FRICTION_DEG = " << num(opt.default_friction_deg) << "\n"
+      << "DAMPING = " << num(opt.damping) << "\n"
+      << "GRAVITY = " << num(opt.gravity) << "  # m/s2, along -z\n"
+      << "TIMESTEP_FACTOR = " << num(opt.timestep_factor) << "\n";
+    if (pb) s << "PB_ROUNDING = " << num(opt.pb_rounding) << "\n";
+    s << "\n";
+
+    if (!pb) {
+      s << "# (block id in blocks.h5, fixed, friction angle [deg], cluster (-1: none), volume "
+           "(/geometry),\n#  vertices (global))\n"
+        << "BLOCKS = [\n";
+      for (const BodyData& d : bodies) {
+        s << "(" << d.block << ", " << (d.fixed ? 1 : 0) << ", " << num(d.friction) << ", "
+          << d.cluster << ", " << num(d.volume) << ", (";
+        for (auto v = g.vertex_offset[d.block]; v < g.vertex_offset[d.block + 1]; ++v)
+          s << vec(g.vertices[std::size_t(v)]) << ", ";
+        s << ")),\n";
+      }
+      s << "]\n\n";
+    } else {
+      s << "# (block id in blocks.h5, fixed, friction angle [deg], cluster (-1: none), volume "
+           "(/geometry),\n#  inscribed radius, bounding radius R about the centroid, centroid "
+           "(global),\n#  planes (a, b, c, d): a x + b y + c z <= d about the centroid, "
+           "unrounded)\n"
+        << "BLOCKS = [\n";
+      for (const BodyData& d : bodies) {
+        const Block& blk = bs.blocks[d.block];
+        double r_bound = 0;
+        for (auto v = g.vertex_offset[d.block]; v < g.vertex_offset[d.block + 1]; ++v)
+          r_bound = std::max(r_bound, (g.vertices[std::size_t(v)] - d.centroid).norm());
+        s << "(" << d.block << ", " << (d.fixed ? 1 : 0) << ", " << num(d.friction) << ", "
+          << d.cluster << ", " << num(d.volume) << ", " << num(blk.inradius) << ", " << num(r_bound)
+          << ", " << vec(d.centroid) << ", (";
+        for (const Face& f : blk.faces) {
+          // n . (x - o) <= d  <=>  n . (x - c) <= d - n . (c - o)
+          const double dc = f.d - f.normal.dot(d.centroid - blk.origin);
+          s << "(" << num(f.normal.x()) << ", " << num(f.normal.y()) << ", " << num(f.normal.z())
+            << ", " << num(dc) << "), ";
+        }
+        s << ")),\n";
+      }
+      s << "]\n\n";
+    }
+
+    // Bodies, clumps, engines.
+    if (!pb) {
+      s << R"(body_of_block = {}
+for block, fixed, phi, cluster, volume, vertices in BLOCKS:
+    mat = PolyhedraMat(young=YOUNG, poisson=POISSON, frictionAngle=math.radians(phi),
+                       density=DENSITY, label='block-%d' % block)
+    O.materials.append(mat)
+    grey = 0.35 if fixed else 0.75
+    body = polyhedra_utils.polyhedra(mat, v=vertices, fixed=bool(fixed), color=(grey, grey, grey))
+    body_of_block[block] = O.bodies.append(body)
+)";
+    } else {
+      s << R"(body_of_block = {}
+for block, fixed, phi, cluster, volume, inradius, radius, centroid, planes in BLOCKS:
+    mat = FrictMat(young=-1, poisson=-1, frictionAngle=math.radians(phi), density=DENSITY,
+                   label='block-%d' % block)
+    O.materials.append(mat)
+    r = PB_ROUNDING * inradius
+    grey = 0.35 if fixed else 0.75
+    body = potential_utils.potentialblock(
+        mat, a=[p[0] for p in planes], b=[p[1] for p in planes], c=[p[2] for p in planes],
+        d=[p[3] - r for p in planes], r=r, R=radius, isBoundary=bool(fixed), fixed=bool(fixed),
+        color=[grey, grey, grey])
+    body.state.pos = Vector3(centroid) + body.shape.position
+    body_of_block[block] = O.bodies.append(body)
+)";
+    }
+    s << R"(
+# Clusters become clumps; a clump with a fixed (boundary) member is fixed as a whole.
+members_of_cluster = {}
+fixed_cluster = set()
+for row in BLOCKS:
+    block, fixed, cluster = row[0], row[1], row[3]
+    if cluster >= 0:
+        members_of_cluster.setdefault(cluster, []).append(body_of_block[block])
+        if fixed:
+            fixed_cluster.add(cluster)
+clump_of_cluster = {}
+for cluster in sorted(members_of_cluster):
+    members = members_of_cluster[cluster]
+    if len(members) < 2:
+        continue
+    clump = O.bodies.clump(members)
+    if cluster in fixed_cluster:
+        O.bodies[clump].state.blockedDOFs = 'xyzXYZ'
+    clump_of_cluster[cluster] = clump
+
+)";
+    if (!pb) {
+      s << R"(# The smallest block sets the verlet distance and the time step: for the volumetric law a
+# contact as large as a face, A ~ V^(2/3), has stiffness k = YOUNG A against m = DENSITY V,
+# dt = sqrt(m / k). (polyhedra_utils.PWaveTimeStep() looks at spheres only and returns 1 s.)
+smallest = min([row[4] for row in BLOCKS] + [1.0])
+# YADE's Polyhedra contact test warns "Unhandled switch case:0" for every new pair of blocks
+# (its separating-plane cache starts empty); blocks that touch face to face make many.
+log.setLevel('Polyhedra_support.cpp', log.ERROR)
+O.engines = [
+    ForceResetter(),
+    InsertionSortCollider([Bo1_Polyhedra_Aabb()], verletDist=0.01 * smallest ** (1.0 / 3)),
+    InteractionLoop(
+        [Ig2_Polyhedra_Polyhedra_PolyhedraGeom()],
+        [Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys()],
+        [Law2_PolyhedraGeom_PolyhedraPhys_Volumetric()],
+    ),
+    NewtonIntegrator(damping=DAMPING, gravity=(0, 0, -GRAVITY), label='newton'),
+]
+O.dt = TIMESTEP_FACTOR * math.sqrt(DENSITY * smallest ** (1.0 / 3) / YOUNG)
+)";
+    } else {
+      s << R"(O.engines = [
+    ForceResetter(),
+    InsertionSortCollider([PotentialBlock2AABB()],
+                          verletDist=0.01 * min([row[4] for row in BLOCKS] + [1.0]) ** (1.0 / 3)),
+    InteractionLoop(
+        [Ig2_PB_PB_ScGeom(twoDimension=False, calContactArea=True)],
+        [Ip2_FrictMat_FrictMat_KnKsPBPhys(kn_i=YOUNG, ks_i=POISSON * YOUNG, Knormal=YOUNG,
+                                          Kshear=POISSON * YOUNG, useFaceProperties=False,
+                                          viscousDamping=DAMPING)],
+        [Law2_SCG_KnKsPBPhys_KnKsPBLaw(label='law', neverErase=False)],
+    ),
+    NewtonIntegrator(damping=DAMPING, exactAsphericalRot=True, gravity=(0, 0, -GRAVITY),
+                     label='newton'),
+]
+# Critical time step of the lightest block on its contact stiffness: m = DENSITY V against
+# k = YOUNG V^(2/3) (a contact as large as a face), dt = sqrt(m / k).
+O.dt = TIMESTEP_FACTOR * min([math.sqrt(DENSITY * row[4] ** (1.0 / 3) / YOUNG) for row in BLOCKS] + [1.0])
+)";
+    }
+    s << R"(
+if STEPS > 0:
+    O.run(STEPS, True)
+)";
+    s.flush();
+    if (!s)
+      throw Error(out.string(), "cannot write " + part.path().filename().string(),
+                  "check that the disk is not full");
+  }
+  part.commit();
+  return st;
+}
+
+}  // namespace slice

@@ -1,0 +1,371 @@
+#include "slice/vertices.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "slice/error.hpp"
+#include "slice/lp.hpp"
+#include "slice/orientation.hpp"
+
+namespace slice {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Triangle = std::array<std::size_t, 3>;
+using Clock = std::chrono::steady_clock;
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+std::string block_name(std::size_t id) { return "block " + std::to_string(id); }
+
+std::string face_name(const Block& b, std::size_t f) {
+  const std::int64_t j = b.faces[f].joint;
+  return "face " + std::to_string(f) +
+         (j < 0 ? std::string(" (a domain face)") : " (joint " + std::to_string(j) + ")");
+}
+
+constexpr const char* kSlicerFix =
+    "the slicer left a face without area (a defect of slice-cut / slice-prune at this "
+    "tolerance); please report it with the scene file";
+
+/// The vertex where the three planes n . x = d meet (the facet of the dual hull through
+/// n_i / d_i, n_j / d_j, n_k / d_k). Not finite if the normals are linearly dependent.
+Vec3 meet(const Face& a, const Face& b, const Face& c, const Vec3& centre) {
+  const double da = a.d - a.normal.dot(centre);
+  const double db = b.d - b.normal.dot(centre);
+  const double dc = c.d - c.normal.dot(centre);
+  const Vec3 bc = b.normal.cross(c.normal);
+  const double det = a.normal.dot(bc);
+  return (da * bc + db * c.normal.cross(a.normal) + dc * a.normal.cross(b.normal)) / det;
+}
+
+double loop_area(const std::vector<Vec3>& v, const std::vector<std::int64_t>& loop,
+                 const Vec3& normal, double* perimeter) {
+  Vec3 s = Vec3::Zero();
+  double p = 0;
+  for (std::size_t k = 0; k < loop.size(); ++k) {
+    const Vec3& a = v[std::size_t(loop[k])];
+    const Vec3& b = v[std::size_t(loop[(k + 1) % loop.size()])];
+    s += a.cross(b);
+    p += (b - a).norm();
+  }
+  if (perimeter) *perimeter = p;
+  return normal.dot(s) / 2;
+}
+
+/// The convex hull of `pts` as triangles (indices into pts), counter-clockwise seen from
+/// outside. Incremental, with CGAL's exact orientation predicate (filtered: exact arithmetic
+/// only for (nearly) coplanar points), so the result is a consistent closed surface whatever
+/// the rounding: coplanar points give a triangulated polygon, points inside or on the hull are
+/// left out. Empty if the points do not span a solid. Meant for the tens of points of a block:
+/// O(n^2). (CGAL::convex_hull_3 gives the same hull but spends 20-30 us per block in list
+/// allocations and exact fallbacks of its distance comparisons.)
+std::vector<Triangle> convex_hull(const std::vector<Point>& pts) {
+  std::vector<Triangle> hull;
+  const std::size_t n = pts.size();
+  // A first tetrahedron: p0, p1 != p0, p2 off the line p0 p1, p3 off the plane p0 p1 p2.
+  std::size_t i1 = 1, i2 = 0, i3 = 0;
+  while (i1 < n && pts[i1] == pts[0]) ++i1;
+  for (i2 = i1 + 1; i2 < n && CGAL::collinear(pts[0], pts[i1], pts[i2]); ++i2) {
+  }
+  CGAL::Orientation o = CGAL::COPLANAR;
+  for (i3 = i2 + 1; i3 < n; ++i3)
+    if ((o = CGAL::orientation(pts[0], pts[i1], pts[i2], pts[i3])) != CGAL::COPLANAR) break;
+  if (i1 >= n || i2 >= n || i3 >= n) return hull;
+  std::size_t a = 0, b = i1, c = i2;
+  if (o == CGAL::POSITIVE) std::swap(b, c);  // now i3 is below the plane a b c
+  const std::size_t d = i3;
+  hull = {{a, b, c}, {a, d, b}, {b, d, c}, {c, d, a}};
+
+  std::vector<char> visible;
+  std::vector<std::array<std::size_t, 2>> horizon;
+  for (std::size_t p = 1; p < n; ++p) {
+    if (p == i1 || p == i2 || p == i3) continue;
+    visible.assign(hull.size(), 0);
+    bool any = false;
+    for (std::size_t t = 0; t < hull.size(); ++t)
+      if (CGAL::orientation(pts[hull[t][0]], pts[hull[t][1]], pts[hull[t][2]], pts[p]) ==
+          CGAL::POSITIVE)
+        visible[t] = any = true;
+    if (!any) continue;  // inside or on the hull
+    // Horizon: directed edges of visible triangles whose reverse is not in a visible one.
+    horizon.clear();
+    for (std::size_t t = 0; t < hull.size(); ++t) {
+      if (!visible[t]) continue;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t u = hull[t][k], v = hull[t][(k + 1) % 3];
+        bool inner = false;
+        for (std::size_t s = 0; s < hull.size() && !inner; ++s)
+          if (visible[s] && s != t)
+            for (std::size_t m = 0; m < 3; ++m)
+              if (hull[s][m] == v && hull[s][(m + 1) % 3] == u) inner = true;
+        if (!inner) horizon.push_back({u, v});
+      }
+    }
+    std::size_t keep = 0;
+    for (std::size_t t = 0; t < hull.size(); ++t)
+      if (!visible[t]) hull[keep++] = hull[t];
+    hull.resize(keep);
+    for (const auto& e : horizon) hull.push_back({e[0], e[1], p});
+  }
+  return hull;
+}
+
+/// The block's interior point the dual hull is built about, block frame: the origin when it is
+/// well inside (slice-cut puts it at the Chebyshev centre), else the Chebyshev centre.
+Vec3 hull_centre(const Block& b, const Tolerances& tol, std::size_t id) {
+  double min_d = b.faces.front().d;
+  for (const Face& f : b.faces) min_d = std::min(min_d, f.d);
+  if (min_d > tol.geometry && min_d >= 0.5 * b.inradius) return Vec3::Zero();
+  const auto solver = make_solver(LpBackend::native);
+  const ChebyshevBall c = chebyshev_ball(*solver, b.faces, tol);
+  if (c.status != LpStatus::optimal || c.radius <= tol.geometry)
+    throw Error(block_name(id),
+                "its faces leave no interior (Chebyshev LP: " + to_string(c.status) + ", radius " +
+                    num(c.radius) + ")",
+                "regenerate the blocks with slice-cut");
+  return c.centre;
+}
+
+}  // namespace
+
+Vec3 newell_normal(const std::vector<Vec3>& polygon) {
+  Vec3 s = Vec3::Zero();
+  for (std::size_t k = 0; k < polygon.size(); ++k)
+    s += polygon[k].cross(polygon[(k + 1) % polygon.size()]);
+  return s;
+}
+
+std::vector<Vec3> clip_polygon(const std::vector<Vec3>& polygon, const Plane& h) {
+  std::vector<Vec3> out;
+  const std::size_t n = polygon.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3& a = polygon[k];
+    const Vec3& b = polygon[(k + 1) % n];
+    const double da = h.distance(a), db = h.distance(b);
+    if (da <= 0) out.push_back(a);
+    if ((da < 0 && db > 0) || (da > 0 && db < 0)) out.push_back(a + (b - a) * (da / (da - db)));
+  }
+  return out;
+}
+
+std::vector<Vec3> joint_polygon(const Joint& j) {
+  std::vector<Vec3> p;
+  if (j.persistent()) return p;
+  const JointFrame f = plane_frame(j.dip_deg, j.dip_direction_deg);
+  for (const Vec2& uv : j.polygon_uv) p.push_back(f.to_global(j.centre, uv));
+  return p;
+}
+
+MassProperties mass_properties(const std::vector<Vec3>& vertices,
+                               const std::vector<std::vector<std::int64_t>>& loops,
+                               const Vec3& about) {
+  // Tetrahedra (about, a, b, c) over a fan of each face, D = a . (b x c) (six times the signed
+  // volume, relative to `about`): integral of x = D/24 (a + b + c) and integral of x x^T =
+  // D/120 (a a^T + b b^T + c c^T + s s^T), s = a + b + c.
+  double six_v = 0;
+  Vec3 m1 = Vec3::Zero();
+  Eigen::Matrix3d m2 = Eigen::Matrix3d::Zero();
+  for (const auto& loop : loops) {
+    if (loop.size() < 3) continue;
+    const Vec3 a = vertices[std::size_t(loop[0])] - about;
+    for (std::size_t k = 1; k + 1 < loop.size(); ++k) {
+      const Vec3 b = vertices[std::size_t(loop[k])] - about;
+      const Vec3 c = vertices[std::size_t(loop[k + 1])] - about;
+      const double d = a.dot(b.cross(c));
+      const Vec3 s = a + b + c;
+      six_v += d;
+      m1 += d / 24 * s;
+      m2 +=
+          d / 120 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+    }
+  }
+  MassProperties mp;
+  mp.volume = six_v / 6;
+  if (!(mp.volume > 0)) return mp;
+  const Vec3 c = m1 / mp.volume;
+  const Eigen::Matrix3d cov = m2 - mp.volume * c * c.transpose();  // about the centroid
+  const Eigen::Matrix3d inertia = cov.trace() * Eigen::Matrix3d::Identity() - cov;
+  mp.centroid = about + c;
+  mp.inertia = {inertia(0, 0), inertia(1, 1), inertia(2, 2),
+                inertia(0, 1), inertia(1, 2), inertia(2, 0)};
+  return mp;
+}
+
+BlockGeometry block_geometry(const Block& b, const JointSystem& js, const Tolerances& tol,
+                             std::size_t id) {
+  const std::size_t nf = b.faces.size();
+  if (nf < 4)
+    throw Error(block_name(id),
+                "has " + std::to_string(nf) + " faces; a bounded block has 4 or more",
+                "regenerate the blocks with slice-cut");
+  const Vec3 centre = hull_centre(b, tol, id);
+
+  // The dual points n_i / d_i (about the centre) and their convex hull.
+  std::vector<Point> dual;
+  dual.reserve(nf);
+  for (const Face& f : b.faces) {
+    const Vec3 p = f.normal / (f.d - f.normal.dot(centre));
+    dual.emplace_back(p.x(), p.y(), p.z());
+  }
+  const std::vector<Triangle> triangles = convex_hull(dual);
+  if (triangles.empty())
+    throw Error(block_name(id), "its faces do not bound a solid (the dual hull is flat)",
+                "regenerate the blocks with slice-cut");
+  // The block is bounded iff the centre (the dual origin) is strictly inside the hull: below
+  // every (outward) facet, by the exact predicate.
+  const Point origin(CGAL::ORIGIN);
+  for (const Triangle& tr : triangles)
+    if (CGAL::orientation(dual[tr[0]], dual[tr[1]], dual[tr[2]], origin) != CGAL::NEGATIVE)
+      throw Error(block_name(id), "its faces do not bound it (the block is unbounded)",
+                  "regenerate the blocks with slice-cut");
+
+  // One vertex per hull facet; facets whose vertices are closer than the geometry tolerance
+  // are one vertex (four or more planes meeting).
+  BlockGeometry g;
+  std::vector<Vec3> local;  // block frame, relative to centre
+  std::vector<std::int64_t> vertex_of(triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const auto& tr = triangles[t];
+    const Vec3 x = meet(b.faces[tr[0]], b.faces[tr[1]], b.faces[tr[2]], centre);
+    if (!x.allFinite())
+      throw Error(block_name(id), "its faces do not bound it (a vertex at infinity)",
+                  "regenerate the blocks with slice-cut");
+    std::size_t m = 0;
+    while (m < local.size() && (local[m] - x).norm() > tol.geometry) ++m;
+    if (m == local.size()) local.push_back(x);
+    vertex_of[t] = std::int64_t(m);
+  }
+
+  // Every vertex satisfies every half-space (the hull is exact; rounding is far below tol).
+  for (std::size_t v = 0; v < local.size(); ++v)
+    for (std::size_t f = 0; f < nf; ++f) {
+      const Face& fc = b.faces[f];
+      const double out = fc.normal.dot(local[v]) - (fc.d - fc.normal.dot(centre));
+      if (out > tol.geometry)
+        throw Error(block_name(id),
+                    "vertex " + std::to_string(v) + " lies " + num(out) + " outside " +
+                        face_name(b, f) + " (tolerance " + num(tol.geometry) + ")",
+                    "the block is too ill-conditioned for its tolerance; please report it");
+    }
+
+  // Face loops: the facets around a hull vertex, in the hull's counter-clockwise order, are the
+  // face's vertices counter-clockwise seen from outside (the polar map keeps orientation).
+  struct Wedge {
+    std::size_t a, b, t;  // facet t = (face, a, b), counter-clockwise
+  };
+  std::vector<std::vector<Wedge>> around(nf);  // hull vertex = face index
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (std::size_t k = 0; k < 3; ++k)
+      around[triangles[t][k]].push_back({triangles[t][(k + 1) % 3], triangles[t][(k + 2) % 3], t});
+
+  g.loops.resize(nf);
+  g.face_area.resize(nf);
+  g.face_joint_fraction.assign(nf, 1.0);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const auto& w = around[f];
+    if (w.empty())
+      throw Error(block_name(id), face_name(b, f) + " does not touch the block (it is redundant)",
+                  kSlicerFix);
+    auto& loop = g.loops[f];
+    std::size_t cur = 0;
+    for (std::size_t step = 0; step < w.size(); ++step) {
+      const std::int64_t v = vertex_of[w[cur].t];
+      if (loop.empty() || loop.back() != v) loop.push_back(v);
+      const std::size_t next_a = w[cur].b;
+      std::size_t next = 0;
+      while (next < w.size() && w[next].a != next_a) ++next;
+      SLICE_ASSERT(next < w.size());  // the hull is a closed triangulated surface
+      cur = next;
+    }
+    SLICE_ASSERT(cur == 0);
+    while (loop.size() > 1 && loop.front() == loop.back()) loop.pop_back();
+    std::vector<std::int64_t> sorted = loop;
+    std::sort(sorted.begin(), sorted.end());
+    const bool repeats = std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
+    double perimeter = 0;
+    const double area = loop.size() < 3 ? 0 : loop_area(local, loop, b.faces[f].normal, &perimeter);
+    if (loop.size() < 3 || repeats || area <= tol.geometry * perimeter / 2)
+      throw Error(block_name(id),
+                  face_name(b, f) + " has no area: " + std::to_string(loop.size()) +
+                      " distinct vertices, area " + num(area) + " (below tolerance " +
+                      num(tol.geometry * perimeter / 2) + " = tolerance x half perimeter)",
+                  kSlicerFix);
+    g.face_area[f] = area;
+
+    // Part of the face inside its joint's polygon, in the face's plane (block frame).
+    const std::int64_t j = b.faces[f].joint;
+    if (j >= 0 && std::size_t(j) < js.joints.size() && !js.joints[std::size_t(j)].persistent()) {
+      const std::vector<Vec3> poly = joint_polygon(js.joints[std::size_t(j)]);
+      const Vec3 o = b.origin + centre;
+      const Vec3& n = js.joints[std::size_t(j)].plane.normal;
+      std::vector<Vec3> part;
+      for (const std::int64_t v : loop) part.push_back(local[std::size_t(v)]);
+      for (std::size_t k = 0; k < poly.size() && !part.empty(); ++k) {
+        const Vec3 m = (poly[(k + 1) % poly.size()] - poly[k]).cross(n).normalized();
+        part = clip_polygon(part, to_local({m, m.dot(poly[k])}, o));
+      }
+      const double inside = part.size() < 3 ? 0 : b.faces[f].normal.dot(newell_normal(part)) / 2;
+      g.face_joint_fraction[f] = std::clamp(inside / area, 0.0, 1.0);
+    }
+  }
+
+  const MassProperties mp = mass_properties(local, g.loops, Vec3::Zero());
+  SLICE_ASSERT(mp.volume > 0);  // every face has positive area and the centre is inside
+  g.volume = mp.volume;
+  g.centroid = b.origin + centre + mp.centroid;
+  g.inertia = mp.inertia;
+  g.vertices.reserve(local.size());
+  for (const Vec3& x : local) g.vertices.push_back(b.origin + centre + x);
+  return g;
+}
+
+GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress) {
+  const auto t0 = Clock::now();
+  if (!bs.pruned)
+    throw Error("/blocks attribute pruned",
+                "is 0: the blocks may still carry faces that no longer touch them (no polygon)",
+                "prune them first: slice-prune, slice-cut --prune or slice-vertices --prune");
+  const Tolerances tol =
+      Tolerances::from_scale(bs.joints.length_scale, bs.joints.options.tolerance);
+  Geometry geo;
+  const std::size_t n = bs.blocks.size();
+  geo.volume.reserve(n);
+  geo.centroid.reserve(n);
+  geo.inertia.reserve(n);
+  GeometryStats st;
+  for (std::size_t i = 0; i < n; ++i) {
+    const BlockGeometry g = block_geometry(bs.blocks[i], bs.joints, tol, i);
+    geo.vertices.insert(geo.vertices.end(), g.vertices.begin(), g.vertices.end());
+    geo.vertex_offset.push_back(std::int64_t(geo.vertices.size()));
+    for (std::size_t f = 0; f < g.loops.size(); ++f) {
+      geo.face_vertices.insert(geo.face_vertices.end(), g.loops[f].begin(), g.loops[f].end());
+      geo.face_vertex_offset.push_back(std::int64_t(geo.face_vertices.size()));
+      geo.face_area.push_back(g.face_area[f]);
+      geo.face_joint_fraction.push_back(g.face_joint_fraction[f]);
+    }
+    geo.volume.push_back(g.volume);
+    geo.centroid.push_back(g.centroid);
+    geo.inertia.push_back(g.inertia);
+    st.vertices += g.vertices.size();
+    st.faces += g.loops.size();
+    if (progress && (i % 1024 == 0 || i + 1 == n)) progress("vertices", i + 1, n);
+  }
+  st.blocks = n;
+  bs.geometry = std::move(geo);
+  st.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return st;
+}
+
+}  // namespace slice

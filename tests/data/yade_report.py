@@ -1,0 +1,31 @@
+# Runs a rockslice YADE model inside YADE and writes what the tests check to a JSON file:
+#   yade -n -x tests/data/yade_report.py model.py report.json
+# `yade -x` exits with 0 even when the script raises, so a failure is written to the report
+# ("error") and the test reads it there.
+import json
+import math
+import sys
+import traceback
+
+model, report = sys.argv[1], sys.argv[2]
+out = {}
+try:
+    exec(compile(open(model).read(), model, 'exec'))
+    out = {'iterations': O.iter, 'dt': O.dt, 'bodies': [],
+           'body_of_block': {str(k): v for k, v in body_of_block.items()},
+           'clump_of_cluster': {str(k): v for k, v in clump_of_cluster.items()}}
+    for b in O.bodies:
+        row = {'id': b.id, 'is_clump': b.isClump,
+               'clump': b.clumpId if b.isClumpMember else -1,
+               # NaN is not JSON: a non-finite coordinate becomes null
+               'pos': [x if math.isfinite(x) else None for x in b.state.pos],
+               'blocked': b.state.blockedDOFs,
+               'mass': b.state.mass}
+        if not b.isClump:
+            row['volume'] = b.shape.GetVolume()
+            row['friction_deg'] = b.mat.frictionAngle * 180 / 3.141592653589793
+        out['bodies'].append(row)
+except BaseException:
+    out = {'error': traceback.format_exc()}
+with open(report, 'w') as f:
+    json.dump(out, f)

@@ -1,0 +1,250 @@
+// slice-export --format yade / yade-potential-blocks: the scripts run in Debian's real YADE
+// (yade -n -x), 100 steps of the settling run, and YADE's bodies match /geometry. YADE must be
+// installed (pipelines/setup does it): a missing yade fails these tests, it does not skip them.
+#include "slice/export_yade.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "slice/h5io.hpp"
+#include "slice/vertices.hpp"
+#include "support/support.hpp"
+
+using Catch::Matchers::Contains;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
+using slice::Vec3;
+using test::run_tool;
+
+namespace {
+
+/// slice-joints | slice-cut --prune | slice-vertices on a data/ scene in tmp: geom.h5.
+std::string geometry_of(const test::TempDir& tmp, const std::string& scene) {
+  const std::string joints = (tmp / "joints.h5").string(), blocks = (tmp / "blocks.h5").string(),
+                    geom = (tmp / "geom.h5").string();
+  REQUIRE(run_tool("slice-joints", {test::data_path(scene).string(), "-o", joints}).exit_code == 0);
+  REQUIRE(run_tool("slice-cut", {joints, "-o", blocks, "--prune"}).exit_code == 0);
+  REQUIRE(run_tool("slice-vertices", {blocks, "-o", geom}).exit_code == 0);
+  return geom;
+}
+
+std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+/// Runs `yade -n -x script args...` with its output in `log`; returns the exit code.
+int run_yade(const std::string& script, const std::string& args, const test::fs::path& log) {
+  REQUIRE(test::run_shell("command -v yade >/dev/null 2>&1") == 0);  // pipelines/setup installs it
+  return test::run_shell("yade -n -x " + quote(script) + " " + args + " </dev/null >" +
+                         quote(log.string()) + " 2>&1");
+}
+
+}  // namespace
+
+TEST_CASE("yade is installed (the YADE tests need it: pipelines/setup installs it)",
+          "[tools][export][yade]") {
+  CHECK(test::run_shell("command -v yade >/dev/null 2>&1") == 0);
+}
+
+TEST_CASE("the YADE model runs 100 steps in YADE and matches /geometry", "[tools][export][yade]") {
+  const std::string scene = GENERATE(as<std::string>{}, "cube-3sets.toml", "rock-slope.toml");
+  CAPTURE(scene);
+  test::TempDir tmp;
+  const auto geom = geometry_of(tmp, scene);
+  const std::string model = (tmp / "model.py").string(), report = (tmp / "report.json").string();
+  const auto ex =
+      run_tool("slice-export", {geom, "--format", "yade", "--yade-steps", "100", "-o", model});
+  INFO(ex.err);
+  REQUIRE(ex.exit_code == 0);
+  const int code = run_yade(test::test_data_path("yade_report.py").string(),
+                            quote(model) + " " + quote(report), tmp / "yade.log");
+  INFO("yade log (tail): " << [&] {
+    const std::string l = test::read_bytes(tmp / "yade.log");
+    return l.substr(l.size() > 2000 ? l.size() - 2000 : 0);
+  }());
+  REQUIRE(code == 0);
+  REQUIRE(test::fs::exists(report));
+  const auto r = nlohmann::json::parse(test::read_bytes(report));
+  REQUIRE_FALSE(r.contains("error"));
+  CHECK(r["iterations"] == 100);
+
+  const auto bs = slice::read_blocks(geom);
+  const auto& g = *bs.geometry;
+  const double L = bs.joints.length_scale;
+  std::size_t kept = 0;
+  std::map<std::int64_t, std::size_t> cluster_size;
+  for (const auto& b : bs.blocks)
+    if (!(b.flags & slice::kRemoved)) {
+      ++kept;
+      if (b.cluster >= 0) ++cluster_size[b.cluster];
+    }
+  std::size_t clumps = 0;
+  for (const auto& [c, n] : cluster_size) clumps += n >= 2 ? 1 : 0;
+
+  // One body per kept block, plus one per clump.
+  const auto& bodies = r["bodies"];
+  CHECK(bodies.size() == kept + clumps);
+  REQUIRE(r["body_of_block"].size() == kept);
+  CHECK(r["clump_of_cluster"].size() == clumps);
+  std::size_t clump_bodies = 0;
+  for (const auto& b : bodies) {
+    clump_bodies += b["is_clump"].get<bool>() ? 1 : 0;
+    for (const auto& x : b["pos"]) CHECK_FALSE(x.is_null());  // no NaN position
+  }
+  CHECK(clump_bodies == clumps);
+
+  double worst_volume = 0, boundary_moved = 0;
+  std::size_t boundary = 0;
+  std::map<std::int64_t, std::int64_t> clump_of;  // cluster -> YADE clump id
+  for (const auto& [key, id] : r["body_of_block"].items()) {
+    const auto blk = std::size_t(std::stoll(key));
+    REQUIRE(blk < bs.blocks.size());
+    const auto& b = bs.blocks[blk];
+    CHECK_FALSE(b.flags & slice::kRemoved);
+    const auto& body = bodies.at(id.get<std::size_t>());
+    // YADE's own volume of the body built from the vertices.
+    const double v = body["volume"].get<double>();
+    worst_volume = std::max(worst_volume, std::abs(v - g.volume[blk]) / g.volume[blk]);
+    // Friction: the smallest angle of the block's rock and boundary joint faces.
+    CHECK_THAT(body["friction_deg"].get<double>(),
+               WithinAbs(slice::block_friction_deg(bs, blk, 30), 1e-9));
+    // Clusters are clumps: all members of a cluster in the same clump.
+    if (b.cluster >= 0 && cluster_size[b.cluster] >= 2) {
+      const auto c = body["clump"].get<std::int64_t>();
+      CHECK(c >= 0);
+      if (!clump_of.count(b.cluster)) clump_of[b.cluster] = c;
+      CHECK(clump_of[b.cluster] == c);
+      CHECK(r["clump_of_cluster"][std::to_string(b.cluster)] == c);
+    } else {
+      CHECK(body["clump"] == -1);
+    }
+    // Boundary blocks are fixed and did not move in 100 steps.
+    if (b.flags & slice::kBoundary) {
+      ++boundary;
+      const auto c = body["clump"].get<std::int64_t>();
+      const auto& holder = c >= 0 ? bodies.at(std::size_t(c)) : body;
+      CHECK(holder["blocked"] == "xyzXYZ");
+      Vec3 p;
+      for (int k = 0; k < 3; ++k) p[k] = body["pos"][std::size_t(k)].get<double>();
+      boundary_moved = std::max(boundary_moved, (p - g.centroid[blk]).norm());
+    }
+  }
+  CHECK(worst_volume <= 1e-6);
+  CHECK(boundary_moved <= 1e-9 * L);
+  if (scene == "rock-slope.toml") {
+    CHECK(boundary > 0);  // the test must see both a boundary block and clumps
+    CHECK(clumps > 0);
+  }
+}
+
+TEST_CASE("the YADE model runs as is: yade -n -x model.py", "[tools][export][yade]") {
+  test::TempDir tmp;
+  const auto geom = geometry_of(tmp, "rock-slope.toml");
+  const std::string model = (tmp / "model.py").string();
+  REQUIRE(run_tool("slice-export", {geom, "--format", "yade", "-o", model}).exit_code == 0);
+  CHECK(run_yade(model, "", tmp / "yade.log") == 0);
+  const std::string log = test::read_bytes(tmp / "yade.log");
+  INFO(log);
+  CHECK(log.find("Traceback") == std::string::npos);
+  CHECK(log.find("Error") == std::string::npos);
+}
+
+namespace {
+
+/// The numbers of a line, in order (the script writes one block per line of plain tuples).
+std::vector<double> numbers(const std::string& line) {
+  std::string s = line;
+  for (char& c : s)
+    if (c == '(' || c == ')' || c == ',') c = ' ';
+  std::istringstream in(s);
+  std::vector<double> v;
+  double x;
+  while (in >> x) v.push_back(x);
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("the PotentialBlock model's planes give back the blocks' volumes",
+          "[tools][export][yade]") {
+  const std::string scene = GENERATE(as<std::string>{}, "cube-3sets.toml", "rock-slope.toml");
+  CAPTURE(scene);
+  test::TempDir tmp;
+  const auto geom = geometry_of(tmp, scene);
+  const std::string model = (tmp / "pb.py").string();
+  const auto ex =
+      run_tool("slice-export", {geom, "--format", "yade-potential-blocks", "-o", model});
+  INFO(ex.err);
+  REQUIRE(ex.exit_code == 0);
+  const auto bs = slice::read_blocks(geom);
+  const auto& g = *bs.geometry;
+  const auto tol =
+      slice::Tolerances::from_scale(bs.joints.length_scale, bs.joints.options.tolerance);
+
+  // Read the planes back: (block, fixed, phi, cluster, volume, inradius, R, cx cy cz, planes).
+  std::ifstream in(model);
+  std::string line;
+  bool in_blocks = false;
+  std::size_t read = 0, kept = 0;
+  for (const auto& b : bs.blocks) kept += (b.flags & slice::kRemoved) ? 0 : 1;
+  while (std::getline(in, line)) {
+    if (line == "BLOCKS = [") {
+      in_blocks = true;
+      continue;
+    }
+    if (!in_blocks) continue;
+    if (line == "]") break;
+    const auto v = numbers(line);
+    REQUIRE(v.size() >= 10 + 4 * 4);
+    REQUIRE((v.size() - 10) % 4 == 0);
+    const auto blk = std::size_t(v[0]);
+    REQUIRE(blk < bs.blocks.size());
+    const auto& b = bs.blocks[blk];
+    CHECK(v[1] == ((b.flags & slice::kBoundary) ? 1 : 0));
+    CHECK(v[4] == g.volume[blk]);
+    CHECK(v[5] == b.inradius);
+    const Vec3 centroid(v[7], v[8], v[9]);
+    CHECK(centroid == g.centroid[blk]);
+    slice::Block pb;  // the PotentialBlock's inner polytope before rounding, about the centroid
+    pb.origin = centroid;
+    for (std::size_t k = 10; k < v.size(); k += 4) {
+      const Vec3 n(v[k], v[k + 1], v[k + 2]);
+      CHECK_THAT(n.norm(), WithinAbs(1, 1e-12));
+      CHECK(v[k + 3] > 0.05 * b.inradius);  // d - r stays positive
+      pb.faces.push_back({n, v[k + 3], -1});
+    }
+    const auto back = slice::block_geometry(pb, {}, tol);
+    CHECK_THAT(back.volume, WithinRel(g.volume[blk], 1e-9));
+    for (const Vec3& x : back.vertices) CHECK((x - centroid).norm() <= v[6] * (1 + 1e-12));
+    ++read;
+  }
+  CHECK(read == kept);
+
+  // Debian's yade has no PotentialBlock: the script says so and stops, with no traceback.
+  const int code = run_yade(model, "", tmp / "yade.log");
+  const std::string log = test::read_bytes(tmp / "yade.log");
+  INFO(log);
+  CHECK(code != 0);
+  CHECK_THAT(log, Contains("built without potential blocks"));
+  CHECK(log.find("Traceback") == std::string::npos);
+}
+
+TEST_CASE("slice-export yade: reruns give the same bytes; bad options are refused",
+          "[tools][export][yade]") {
+  test::TempDir tmp;
+  const auto geom = geometry_of(tmp, "rock-slope.toml");
+  const std::string a = (tmp / "a.py").string(), b = (tmp / "b.py").string();
+  REQUIRE(run_tool("slice-export", {geom, "--format", "yade", "-o", a}).exit_code == 0);
+  REQUIRE(run_tool("slice-export", {geom, "--format", "yade", "-o", b}).exit_code == 0);
+  CHECK(test::read_bytes(a) == test::read_bytes(b));
+  const auto neg =
+      run_tool("slice-export", {geom, "--format", "yade", "--yade-steps", "-3", "-o", a});
+  CHECK(neg.exit_code == 1);
+  CHECK_THAT(neg.err, Contains("--yade-steps"));
+  const auto dens =
+      run_tool("slice-export", {geom, "--format", "yade", "--yade-density", "0", "-o", a});
+  CHECK(dens.exit_code == 1);
+  CHECK_THAT(dens.err, Contains("--yade-density"));
+}

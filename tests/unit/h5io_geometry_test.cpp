@@ -1,0 +1,165 @@
+// slice/h5io.hpp, the /geometry group of blocks.h5 (written by slice-vertices): exact round
+// trips, byte-identical reruns, and the refusals of the writer and the reader.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <string>
+
+#include "h5/h5.hpp"
+#include "slice/cut.hpp"
+#include "slice/error.hpp"
+#include "slice/h5io.hpp"
+#include "slice/scene.hpp"
+#include "slice/vertices.hpp"
+#include "support/support.hpp"
+
+using Catch::Matchers::Contains;
+
+namespace {
+
+// Two joints, one a polygon (fractions below 1), a zone; pruned and with geometry.
+slice::BlockSystem sample() {
+  const std::string scene =
+      "[domain]\nbox = { min = [0, 0, 0], max = [4, 3, 2] }\n"
+      "[[joints]]\ndip = 60\ndip_direction = 30\npoint = [2, 1.5, 1]\n"
+      "[[joints]]\ndip = 10\ndip_direction = 200\npoint = [1, 1, 1.2]\n"
+      "polygon_uv = [[-1, -1], [1, -1], [1, 1], [-1, 1]]\n";
+  auto r = slice::cut_blocks(slice::generate_joints(slice::parse_scene(scene, "s.toml")), {});
+  slice::prune_blocks(r.blocks, slice::LpBackend::native);
+  slice::compute_geometry(r.blocks);
+  return std::move(r.blocks);
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const slice::Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+void check_same(const slice::Geometry& a, const slice::Geometry& b) {
+  CHECK(a.vertex_offset == b.vertex_offset);
+  CHECK(a.vertices == b.vertices);
+  CHECK(a.face_vertex_offset == b.face_vertex_offset);
+  CHECK(a.face_vertices == b.face_vertices);
+  CHECK(a.volume == b.volume);
+  CHECK(a.centroid == b.centroid);
+  CHECK(a.inertia == b.inertia);
+  CHECK(a.face_area == b.face_area);
+  CHECK(a.face_joint_fraction == b.face_joint_fraction);
+}
+
+}  // namespace
+
+TEST_CASE("/geometry reads back exactly what was written", "[h5io][geometry]") {
+  test::TempDir dir;
+  const auto bs = sample();
+  REQUIRE(bs.geometry);
+  REQUIRE(bs.blocks.size() >= 3);
+  bool bridge = false;
+  for (const double f : bs.geometry->face_joint_fraction) bridge = bridge || f < 1;
+  CHECK(bridge);  // the sample has a rock bridge, so fractions are not all 1
+  slice::write_blocks(dir / "g.h5", bs, {});
+  const auto back = slice::read_blocks(dir / "g.h5");
+  REQUIRE(back.geometry);
+  check_same(*bs.geometry, *back.geometry);
+
+  SECTION("and the same content gives the same bytes") {
+    slice::write_blocks(dir / "g2.h5", back, {});
+    CHECK(test::read_bytes(dir / "g.h5") == test::read_bytes(dir / "g2.h5"));
+  }
+  SECTION("a file without /geometry reads back without it") {
+    auto plain = bs;
+    plain.geometry.reset();
+    slice::write_blocks(dir / "p.h5", plain, {});
+    CHECK_FALSE(slice::read_blocks(dir / "p.h5").geometry);
+  }
+  SECTION("pruning again drops the geometry (the faces may change)") {
+    auto again = back;
+    slice::prune_blocks(again, slice::LpBackend::native);
+    CHECK_FALSE(again.geometry);
+  }
+}
+
+TEST_CASE("the writer refuses geometry that does not match the blocks", "[h5io][geometry]") {
+  test::TempDir dir;
+  auto bs = sample();
+  auto& g = *bs.geometry;
+  std::string expect;
+  SECTION("vertex_offset too short") {
+    g.vertex_offset.pop_back();
+    expect = "/geometry/vertex_offset has";
+  }
+  SECTION("a face with two vertices") {
+    g.face_vertex_offset[1] = g.face_vertex_offset[0] + 2;
+    expect = "/geometry/face_vertex_offset row 0 gives face 0 2 vertices";
+  }
+  SECTION("a vertex index past the block's vertices") {
+    g.face_vertices[0] = g.vertex_offset[1];
+    expect = "/geometry/face_vertices row 0 is";
+  }
+  SECTION("NaN volume") {
+    g.volume[1] = std::numeric_limits<double>::quiet_NaN();
+    expect = "/geometry/volume row 1 is nan";
+  }
+  SECTION("zero face area") {
+    g.face_area[2] = 0;
+    expect = "/geometry/face_area row 2 is 0";
+  }
+  SECTION("a fraction above 1") {
+    g.face_joint_fraction[3] = 1.5;
+    expect = "/geometry/face_joint_fraction row 3 is 1.5";
+  }
+  SECTION("an infinite inertia") {
+    g.inertia[0][4] = std::numeric_limits<double>::infinity();
+    expect = "/geometry/inertia row 0 is";
+  }
+  CAPTURE(expect);
+  const std::string msg = error_of([&] { slice::write_blocks(dir / "g.h5", bs, {}); });
+  CHECK_THAT(msg, Contains("g.h5: " + expect) && Contains("nothing was written"));
+  CHECK(std::filesystem::is_empty(dir.path()));
+}
+
+TEST_CASE("the reader refuses a spoiled /geometry and names the file and dataset",
+          "[h5io][geometry]") {
+  test::TempDir dir;
+  const auto p = dir / "g.h5";
+  slice::write_blocks(p, sample(), {});
+  std::string expect;
+  {
+    slice::h5::File f = slice::h5::File::open(p, {p.string(), ""}, true);
+    const auto g = f.root().open_group("geometry");
+    SECTION("missing dataset") {
+      g.remove("volume");
+      expect = "missing dataset /geometry/volume";
+    }
+    SECTION("too few centroids") {
+      auto c = g.read<double>("centroid", 3);
+      c.resize(c.size() - 3);
+      g.remove("centroid");
+      g.write<double>("centroid", c, 3);
+      expect = "/geometry/centroid has";
+    }
+    SECTION("an index out of range") {
+      auto fv = g.read<std::int64_t>("face_vertices");
+      fv[5] = -1;
+      g.remove("face_vertices");
+      g.write<std::int64_t>("face_vertices", fv);
+      expect = "/geometry/face_vertices row 5 is -1";
+    }
+    SECTION("offsets that do not end at the flat length") {
+      auto off = g.read<std::int64_t>("vertex_offset");
+      off.back() += 1;
+      g.remove("vertex_offset");
+      g.write<std::int64_t>("vertex_offset", off);
+      expect = "/geometry/vertex_offset ends at";
+    }
+    f.close();
+  }
+  CAPTURE(expect);
+  const std::string msg = error_of([&] { slice::read_blocks(p); });
+  CHECK_THAT(msg, Contains(p.string()) && Contains(expect));
+}
