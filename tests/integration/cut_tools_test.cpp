@@ -3,22 +3,10 @@
 #include <nlohmann/json.hpp>
 
 #include "slice/h5io.hpp"
+#include "support/pipeline.hpp"
 #include "support/support.hpp"
 
 using test::run_tool;
-
-namespace {
-
-/// joints.h5 of a data/ scene in tmp.
-std::string joints_of(const test::TempDir& tmp, const std::string& scene) {
-  const std::string out = (tmp / "joints.h5").string();
-  const auto r = run_tool("slice-joints", {test::data_path(scene).string(), "-o", out});
-  INFO(r.err);
-  REQUIRE(r.exit_code == 0);
-  return out;
-}
-
-}  // namespace
 
 TEST_CASE("slice-cut and slice-prune answer --help and --version", "[tools][cut]") {
   for (const char* t : {"slice-cut", "slice-prune"}) {
@@ -30,7 +18,7 @@ TEST_CASE("slice-cut and slice-prune answer --help and --version", "[tools][cut]
 
 TEST_CASE("slice-cut | slice-prune on cube-3sets: 1000 blocks of 6 faces", "[tools][cut]") {
   test::TempDir tmp;
-  const auto joints = joints_of(tmp, "cube-3sets.toml");
+  const auto joints = test::run_pipeline(tmp, "cube-3sets.toml", test::Stage::joints);
   const auto blocks = (tmp / "blocks.h5").string(), pruned = (tmp / "pruned.h5").string();
   const auto cut = run_tool("slice-cut", {joints, "-o", blocks});
   INFO(cut.err);
@@ -59,7 +47,7 @@ TEST_CASE("slice-cut | slice-prune on cube-3sets: 1000 blocks of 6 faces", "[too
 TEST_CASE("slice-cut --prune equals slice-cut then slice-prune, and reruns are identical",
           "[tools][cut]") {
   test::TempDir tmp;
-  const auto joints = joints_of(tmp, "rock-slope.toml");
+  const auto joints = test::run_pipeline(tmp, "rock-slope.toml", test::Stage::joints);
   const auto a = (tmp / "a.h5").string(), b = (tmp / "b.h5").string();
   REQUIRE(run_tool("slice-cut", {joints, "-o", a, "--prune"}).exit_code == 0);
   const std::string first = test::read_bytes(a);
@@ -78,7 +66,7 @@ TEST_CASE("slice-cut --prune equals slice-cut then slice-prune, and reruns are i
 
 TEST_CASE("the rock slope has boundary, removed and clustered blocks", "[tools][cut]") {
   test::TempDir tmp;
-  const auto joints = joints_of(tmp, "rock-slope.toml");
+  const auto joints = test::run_pipeline(tmp, "rock-slope.toml", test::Stage::joints);
   const auto out = (tmp / "b.h5").string();
   REQUIRE(run_tool("slice-cut", {joints, "-o", out, "--prune"}).exit_code == 0);
   const auto bs = slice::read_blocks(out);
@@ -104,7 +92,7 @@ TEST_CASE("the rock slope has boundary, removed and clustered blocks", "[tools][
 
 TEST_CASE("slice-cut every backend gives the same blocks on cube-3sets", "[tools][cut][lp]") {
   test::TempDir tmp;
-  const auto joints = joints_of(tmp, "cube-3sets.toml");
+  const auto joints = test::run_pipeline(tmp, "cube-3sets.toml", test::Stage::joints);
   for (const char* lp : {"native", "exact", "ipopt"}) {
     CAPTURE(lp);
     const auto out = (tmp / (std::string(lp) + ".h5")).string();
@@ -120,7 +108,7 @@ TEST_CASE("slice-cut every backend gives the same blocks on cube-3sets", "[tools
 TEST_CASE("slice-cut and slice-prune refuse bad input with exit 1, writing nothing",
           "[tools][cut]") {
   test::TempDir tmp;
-  const auto joints = joints_of(tmp, "cube-3sets.toml");
+  const auto joints = test::run_pipeline(tmp, "cube-3sets.toml", test::Stage::joints);
   const auto out = (tmp / "b.h5").string();
   SECTION("a joints file given to slice-prune") {
     const auto r = run_tool("slice-prune", {joints, "-o", out});

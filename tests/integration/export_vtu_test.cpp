@@ -13,6 +13,7 @@
 #include "slice/h5io.hpp"
 #include "slice/polytope.hpp"
 #include "slice/vertices.hpp"
+#include "support/pipeline.hpp"
 #include "support/support.hpp"
 
 using Catch::Matchers::Contains;
@@ -22,16 +23,6 @@ using slice::Vec3;
 using test::run_tool;
 
 namespace {
-
-/// slice-joints | slice-cut --prune | slice-vertices on a data/ scene in tmp: geom.h5.
-std::string geometry_of(const test::TempDir& tmp, const std::string& scene) {
-  const std::string joints = (tmp / "joints.h5").string(), blocks = (tmp / "blocks.h5").string(),
-                    geom = (tmp / "geom.h5").string();
-  REQUIRE(run_tool("slice-joints", {test::data_path(scene).string(), "-o", joints}).exit_code == 0);
-  REQUIRE(run_tool("slice-cut", {joints, "-o", blocks, "--prune"}).exit_code == 0);
-  REQUIRE(run_tool("slice-vertices", {blocks, "-o", geom}).exit_code == 0);
-  return geom;
-}
 
 vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const std::string& file) {
   vtkNew<vtkXMLUnstructuredGridReader> r;
@@ -69,7 +60,7 @@ TEST_CASE("blocks.vtu reads back with VTK: cells, data and volumes", "[tools][ex
       GENERATE(as<std::string>{}, "cube-3sets.toml", "rock-slope.toml", "table3-persistent.toml");
   CAPTURE(scene);
   test::TempDir tmp;
-  const auto geom = geometry_of(tmp, scene);
+  const auto geom = test::run_pipeline(tmp, scene, test::Stage::geometry);
   const std::string vtu = (tmp / "blocks.vtu").string(), jvtu = (tmp / "joints.vtu").string();
   const auto r = run_tool("slice-export", {geom, "--format", "vtu", "-o", vtu, "--joints", jvtu});
   INFO(r.err);
@@ -150,7 +141,7 @@ TEST_CASE("blocks.vtu reads back with VTK: cells, data and volumes", "[tools][ex
 TEST_CASE("slice-export vtu: reruns give the same bytes; bad input is refused",
           "[tools][export][vtu]") {
   test::TempDir tmp;
-  const auto geom = geometry_of(tmp, "rock-slope.toml");
+  const auto geom = test::run_pipeline(tmp, "rock-slope.toml", test::Stage::geometry);
   const std::string a = (tmp / "a.vtu").string(), b = (tmp / "b.vtu").string();
   REQUIRE(run_tool("slice-export", {geom, "-o", a}).exit_code == 0);
   REQUIRE(run_tool("slice-export", {geom, "-o", b}).exit_code == 0);

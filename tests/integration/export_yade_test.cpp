@@ -12,6 +12,7 @@
 
 #include "slice/h5io.hpp"
 #include "slice/vertices.hpp"
+#include "support/pipeline.hpp"
 #include "support/support.hpp"
 
 using Catch::Matchers::Contains;
@@ -21,16 +22,6 @@ using slice::Vec3;
 using test::run_tool;
 
 namespace {
-
-/// slice-joints | slice-cut --prune | slice-vertices on a data/ scene in tmp: geom.h5.
-std::string geometry_of(const test::TempDir& tmp, const std::string& scene) {
-  const std::string joints = (tmp / "joints.h5").string(), blocks = (tmp / "blocks.h5").string(),
-                    geom = (tmp / "geom.h5").string();
-  REQUIRE(run_tool("slice-joints", {test::data_path(scene).string(), "-o", joints}).exit_code == 0);
-  REQUIRE(run_tool("slice-cut", {joints, "-o", blocks, "--prune"}).exit_code == 0);
-  REQUIRE(run_tool("slice-vertices", {blocks, "-o", geom}).exit_code == 0);
-  return geom;
-}
 
 std::string quote(const std::string& s) { return "'" + s + "'"; }
 
@@ -52,7 +43,7 @@ TEST_CASE("the YADE model runs 100 steps in YADE and matches /geometry", "[tools
   const std::string scene = GENERATE(as<std::string>{}, "cube-3sets.toml", "rock-slope.toml");
   CAPTURE(scene);
   test::TempDir tmp;
-  const auto geom = geometry_of(tmp, scene);
+  const auto geom = test::run_pipeline(tmp, scene, test::Stage::geometry);
   const std::string model = (tmp / "model.py").string(), report = (tmp / "report.json").string();
   const auto ex =
       run_tool("slice-export", {geom, "--format", "yade", "--yade-steps", "100", "-o", model});
@@ -141,7 +132,7 @@ TEST_CASE("the YADE model runs 100 steps in YADE and matches /geometry", "[tools
 
 TEST_CASE("the YADE model runs as is: yade -n -x model.py", "[tools][export][yade]") {
   test::TempDir tmp;
-  const auto geom = geometry_of(tmp, "rock-slope.toml");
+  const auto geom = test::run_pipeline(tmp, "rock-slope.toml", test::Stage::geometry);
   const std::string model = (tmp / "model.py").string();
   REQUIRE(run_tool("slice-export", {geom, "--format", "yade", "-o", model}).exit_code == 0);
   CHECK(run_yade(model, "", tmp / "yade.log") == 0);
@@ -172,7 +163,7 @@ TEST_CASE("the PotentialBlock model's planes give back the blocks' volumes",
   const std::string scene = GENERATE(as<std::string>{}, "cube-3sets.toml", "rock-slope.toml");
   CAPTURE(scene);
   test::TempDir tmp;
-  const auto geom = geometry_of(tmp, scene);
+  const auto geom = test::run_pipeline(tmp, scene, test::Stage::geometry);
   const std::string model = (tmp / "pb.py").string();
   const auto ex =
       run_tool("slice-export", {geom, "--format", "yade-potential-blocks", "-o", model});
@@ -234,7 +225,7 @@ TEST_CASE("the PotentialBlock model's planes give back the blocks' volumes",
 TEST_CASE("slice-export yade: reruns give the same bytes; bad options are refused",
           "[tools][export][yade]") {
   test::TempDir tmp;
-  const auto geom = geometry_of(tmp, "rock-slope.toml");
+  const auto geom = test::run_pipeline(tmp, "rock-slope.toml", test::Stage::geometry);
   const std::string a = (tmp / "a.py").string(), b = (tmp / "b.py").string();
   REQUIRE(run_tool("slice-export", {geom, "--format", "yade", "-o", a}).exit_code == 0);
   REQUIRE(run_tool("slice-export", {geom, "--format", "yade", "-o", b}).exit_code == 0);

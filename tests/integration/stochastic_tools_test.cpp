@@ -8,26 +8,15 @@
 #include "slice/h5io.hpp"
 #include "slice/scene.hpp"
 #include "support/blocks_check.hpp"
+#include "support/pipeline.hpp"
 #include "support/support.hpp"
 
 using test::run_tool;
 
-namespace {
-
-std::string joints_of(const test::TempDir& tmp, const std::string& scene) {
-  const std::string out = (tmp / "joints.h5").string();
-  const auto r = run_tool("slice-joints", {test::data_path(scene).string(), "-o", out});
-  INFO(r.err);
-  REQUIRE(r.exit_code == 0);
-  return out;
-}
-
-}  // namespace
-
 TEST_CASE("table3-lognormal: slice-joints, slice-cut, slice-prune; the invariants hold",
           "[tools][stochastic]") {
   test::TempDir tmp;
-  const auto joints = joints_of(tmp, "table3-lognormal.toml");
+  const auto joints = test::run_pipeline(tmp, "table3-lognormal.toml", test::Stage::joints);
   const auto blocks = (tmp / "blocks.h5").string(), pruned = (tmp / "pruned.h5").string();
   const auto cut = run_tool("slice-cut", {joints, "-o", blocks});
   INFO(cut.err);
@@ -73,7 +62,8 @@ TEST_CASE("stochastic scenes give byte-identical joints.h5 and blocks.h5 on a re
 TEST_CASE("genesis-limestone: four sets, each intensity met, introduced set by set",
           "[tools][stochastic]") {
   test::TempDir tmp;
-  const auto js = slice::read_joints(joints_of(tmp, "genesis-limestone.toml"));
+  const auto js =
+      slice::read_joints(test::run_pipeline(tmp, "genesis-limestone.toml", test::Stage::joints));
   REQUIRE(js.sets.size() == 4);
   CHECK(js.options.order == slice::JointOrder::by_set);
   using I = slice::SetIntensity;
@@ -99,16 +89,11 @@ TEST_CASE("genesis-limestone: four sets, each intensity met, introduced set by s
 }
 
 TEST_CASE("bad stochastic sets: exit 1, one line, nothing written", "[tools][stochastic]") {
-  struct Bad {
-    const char* name;
-    std::string text;
-    std::vector<std::string> words;
-  };
   const std::string set =
       "[domain]\nbox = { min = [0, 0, 0], max = [4, 4, 4] }\n"
       "[[sets]]\nname = \"J1\"\ndip = 5\ndip_direction = 0\n";  // lines 1-6
   const std::string size = "size = { distribution = \"lognormal\", mean = 1.0, sd = 0.5 }\n";
-  const std::vector<Bad> cases = {
+  const std::vector<test::BadScene> cases = {
       {"negative sd",
        set + "density = 0.1\nsize = { distribution = \"lognormal\", mean = 1.0, sd = -0.5 }\n",
        {":8", "'sd'", "-0.5"}},
@@ -126,29 +111,14 @@ TEST_CASE("bad stochastic sets: exit 1, one line, nothing written", "[tools][sto
        "[scene]\nmax_joints = 50\n" + set + "count = 60\n" + size,
        {":9", "more than max_joints = 50"}},
   };
-  for (const auto& c : cases) {
-    CAPTURE(c.name, c.text);
-    test::TempDir tmp;
-    test::write_text(tmp / "bad.toml", c.text);
-    const auto out = tmp / "j.h5";
-    const auto r = run_tool("slice-joints", {(tmp / "bad.toml").string(), "-o", out.string()});
-    CHECK(r.exit_code == 1);
-    CHECK_THAT(r.err, Catch::StartsWith("slice-joints: error: "));
-    CHECK_THAT(r.err, Catch::Contains("bad.toml"));
-    for (const auto& w : c.words) CHECK_THAT(r.err, Catch::Contains(w));
-    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-    CHECK_FALSE(test::fs::exists(out));
-    CHECK_FALSE(test::fs::exists(tmp / "j.h5.partial"));
-  }
+  test::check_bad_scenes(cases);
 }
 
 TEST_CASE("pipelines/plot draws the stereonet, sizes and volumes", "[tools][stochastic][plot]") {
-  if (test::run_shell("/usr/bin/python3 -c 'import h5py, matplotlib' >/dev/null 2>&1") != 0) {
-    WARN("skipped: /usr/bin/python3 lacks h5py or matplotlib (pipelines/setup installs them)");
-    return;
-  }
+  // pipelines/setup installs h5py and matplotlib: without them this test fails, not skips.
+  REQUIRE(test::run_shell("/usr/bin/python3 -c 'import h5py, matplotlib' >/dev/null 2>&1") == 0);
   test::TempDir tmp;
-  const auto joints = joints_of(tmp, "genesis-limestone.toml");
+  const auto joints = test::run_pipeline(tmp, "genesis-limestone.toml", test::Stage::joints);
   const auto blocks = (tmp / "blocks.h5").string();
   REQUIRE(run_tool("slice-cut", {joints, "-o", blocks, "--prune"}).exit_code == 0);
   const std::string plot = (test::data_path("..") / "pipelines" / "plot").string();

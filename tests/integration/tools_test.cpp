@@ -5,6 +5,7 @@
 #include "slice/h5io.hpp"
 #include "slice/hash.hpp"
 #include "slice/scene.hpp"
+#include "support/pipeline.hpp"
 #include "support/support.hpp"
 
 using test::run_tool;
@@ -112,8 +113,8 @@ TEST_CASE("the example scenes give the expected joints", "[tools]") {
     CHECK_THAT(j["domain"]["volume"].get<double>(), Catch::Matchers::WithinRel(1e6, 1e-12));
   }
   SECTION("rock-slope: every joint kind, polygons, a zone, a non-box domain") {
-    REQUIRE(run_tool("slice-joints", {test::data_path("rock-slope.toml").string(), "-o",
-                                      (tmp / "j.h5").string()})
+    REQUIRE(run_tool("slice-joints",
+                     {test::data_path("rock-slope.toml").string(), "-o", (tmp / "j.h5").string()})
                 .exit_code == 0);
     const auto j = info_json(tmp / "j.h5");
     CHECK(j["joints"]["total"] == 22);
@@ -132,13 +133,8 @@ TEST_CASE("the example scenes give the expected joints", "[tools]") {
 }
 
 TEST_CASE("bad input: exit 1, one line naming file, line and key, nothing written", "[tools]") {
-  struct Bad {
-    const char* name;
-    std::string text;
-    std::vector<std::string> words;
-  };
   const std::string box = "[domain]\nbox = { min = [0, 0, 0], max = [4, 4, 4] }\n";
-  const std::vector<Bad> cases = {
+  const std::vector<test::BadScene> cases = {
       {"unknown key",
        box + "[[sets]]\ndip = 0\ndip_direction = 0\nspaceing = 1.0\n",
        {":6", "spaceing", "spacing"}},
@@ -164,20 +160,7 @@ TEST_CASE("bad input: exit 1, one line naming file, line and key, nothing writte
        {":7", "fisher_kappa", "regular set"}},
       {"TOML syntax", box + "[[sets]\n", {":3"}},
   };
-  for (const auto& c : cases) {
-    CAPTURE(c.name, c.text);
-    test::TempDir tmp;
-    test::write_text(tmp / "bad.toml", c.text);
-    const auto out = tmp / "j.h5";
-    const auto r = run_tool("slice-joints", {(tmp / "bad.toml").string(), "-o", out.string()});
-    CHECK(r.exit_code == 1);
-    CHECK_THAT(r.err, Catch::StartsWith("slice-joints: error: "));
-    CHECK_THAT(r.err, Catch::Contains("bad.toml"));
-    for (const auto& w : c.words) CHECK_THAT(r.err, Catch::Contains(w));
-    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-    CHECK_FALSE(test::fs::exists(out));
-    CHECK_FALSE(test::fs::exists(tmp / "j.h5.partial"));
-  }
+  test::check_bad_scenes(cases);
 }
 
 TEST_CASE("bad input leaves an existing output untouched", "[tools]") {

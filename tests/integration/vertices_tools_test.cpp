@@ -4,6 +4,7 @@
 #include "slice/h5io.hpp"
 #include "slice/vertices.hpp"
 #include "support/blocks_check.hpp"
+#include "support/pipeline.hpp"
 #include "support/support.hpp"
 
 using Catch::Matchers::Contains;
@@ -11,27 +12,10 @@ using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
 using test::run_tool;
 
-namespace {
-
-/// slice-joints, slice-cut (pruned unless told), slice-vertices on a data/ scene, in tmp;
-/// returns the path of geom.h5.
-std::string geometry_of(const test::TempDir& tmp, const std::string& scene) {
-  const std::string joints = (tmp / "joints.h5").string(), blocks = (tmp / "blocks.h5").string(),
-                    geom = (tmp / "geom.h5").string();
-  REQUIRE(run_tool("slice-joints", {test::data_path(scene).string(), "-o", joints}).exit_code == 0);
-  REQUIRE(run_tool("slice-cut", {joints, "-o", blocks, "--prune"}).exit_code == 0);
-  const auto r = run_tool("slice-vertices", {blocks, "-o", geom});
-  INFO(r.err);
-  REQUIRE(r.exit_code == 0);
-  CHECK_THAT(r.err, Contains("us per block"));
-  return geom;
-}
-
-}  // namespace
-
 TEST_CASE("slice-vertices on cube-3sets: every block is a unit cube", "[tools][vertices]") {
   test::TempDir tmp;
-  const auto bs = slice::read_blocks(geometry_of(tmp, "cube-3sets.toml"));
+  const auto bs =
+      slice::read_blocks(test::run_pipeline(tmp, "cube-3sets.toml", test::Stage::geometry));
   REQUIRE(bs.geometry);
   const auto& g = *bs.geometry;
   REQUIRE(bs.blocks.size() == 1000);
@@ -51,7 +35,7 @@ TEST_CASE("slice-vertices on every example: volumes add up, loops and vertices a
       GENERATE(as<std::string>{}, "cube-3sets.toml", "rock-slope.toml", "table3-persistent.toml");
   CAPTURE(scene);
   test::TempDir tmp;
-  const auto bs = slice::read_blocks(geometry_of(tmp, scene));
+  const auto bs = slice::read_blocks(test::run_pipeline(tmp, scene, test::Stage::geometry));
   REQUIRE(bs.geometry);
   const auto& g = *bs.geometry;
   const auto tol =
@@ -116,10 +100,19 @@ TEST_CASE("slice-vertices refuses unpruned blocks unless told to prune", "[tools
 
 TEST_CASE("slice-vertices reruns give identical files", "[tools][vertices]") {
   test::TempDir tmp;
-  const auto geom = geometry_of(tmp, "rock-slope.toml");
+  const auto geom = test::run_pipeline(tmp, "rock-slope.toml", test::Stage::geometry);
   const auto again = run_tool("slice-vertices", {(tmp / "blocks.h5").string(), "-o", geom});
   REQUIRE(again.exit_code == 0);
   const auto first = test::read_bytes(geom);
   REQUIRE(run_tool("slice-vertices", {(tmp / "blocks.h5").string(), "-o", geom}).exit_code == 0);
   CHECK(test::read_bytes(geom) == first);
+}
+
+TEST_CASE("slice-vertices reports its time per block", "[tools][vertices]") {
+  test::TempDir tmp;
+  const auto blocks = test::run_pipeline(tmp, "cube-3sets.toml", test::Stage::blocks);
+  const auto r = run_tool("slice-vertices", {blocks, "-o", (tmp / "geom.h5").string()});
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.err, Catch::Contains("us per block"));
 }

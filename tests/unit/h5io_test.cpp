@@ -11,6 +11,7 @@
 
 #include "h5/h5.hpp"
 #include "slice/error.hpp"
+#include "support/compare.hpp"
 #include "support/support.hpp"
 
 namespace {
@@ -19,6 +20,7 @@ namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 using slice::Vec2;
 using slice::Vec3;
+using test::check_same;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -143,83 +145,6 @@ slice::BlockSystem sample_blocks() {
 slice::Provenance sample_provenance() {
   return {"slice-test", "0.1.0", "slice-test --flag 'a b' scene.toml", "scene.toml",
           std::string(64, 'a')};
-}
-
-void check_same(const slice::Plane& a, const slice::Plane& b) {
-  CHECK(a.normal == b.normal);
-  CHECK(a.d == b.d);
-}
-
-void check_same(const slice::Region& a, const slice::Region& b) {
-  REQUIRE(a.planes.size() == b.planes.size());
-  for (std::size_t i = 0; i < a.planes.size(); ++i) check_same(a.planes[i], b.planes[i]);
-}
-
-void check_same(const slice::JointSystem& a, const slice::JointSystem& b) {
-  CHECK(a.name == b.name);
-  CHECK(a.seed == b.seed);
-  check_same(a.domain, b.domain);
-  CHECK(a.length_scale == b.length_scale);
-  CHECK(a.options.order == b.options.order);
-  CHECK(a.options.min_inscribed_diameter == b.options.min_inscribed_diameter);
-  CHECK(a.options.max_aspect_ratio == b.options.max_aspect_ratio);
-  CHECK(a.options.tolerance == b.options.tolerance);
-  REQUIRE(a.joints.size() == b.joints.size());
-  for (std::size_t i = 0; i < a.joints.size(); ++i) {
-    CAPTURE(i);
-    const auto& x = a.joints[i];
-    const auto& y = b.joints[i];
-    check_same(x.plane, y.plane);
-    CHECK(x.centre == y.centre);
-    CHECK(x.dip_deg == y.dip_deg);
-    CHECK(x.dip_direction_deg == y.dip_direction_deg);
-    CHECK(x.kind == y.kind);
-    CHECK(x.set == y.set);
-    CHECK(x.friction_angle_deg == y.friction_angle_deg);
-    CHECK(x.cohesion == y.cohesion);
-    CHECK(x.boundary_side == y.boundary_side);
-    CHECK(x.polygon_uv == y.polygon_uv);
-  }
-  REQUIRE(a.sets.size() == b.sets.size());
-  for (std::size_t i = 0; i < a.sets.size(); ++i) {
-    CAPTURE(i);
-    const auto& x = a.sets[i];
-    const auto& y = b.sets[i];
-    CHECK(x.name == y.name);
-    CHECK(x.dip_deg == y.dip_deg);
-    CHECK(x.dip_direction_deg == y.dip_direction_deg);
-    CHECK(x.spacing == y.spacing);
-    CHECK(x.offset == y.offset);
-    CHECK(x.friction_angle_deg == y.friction_angle_deg);
-    CHECK(x.cohesion == y.cohesion);
-    CHECK(x.kind == y.kind);
-    CHECK(x.boundary_side == y.boundary_side);
-    CHECK(x.joint_count == y.joint_count);
-  }
-  REQUIRE(a.zones.size() == b.zones.size());
-  for (std::size_t i = 0; i < a.zones.size(); ++i) check_same(a.zones[i], b.zones[i]);
-}
-
-void check_same(const slice::BlockSystem& a, const slice::BlockSystem& b) {
-  check_same(a.joints, b.joints);
-  CHECK(a.pruned == b.pruned);
-  REQUIRE(a.blocks.size() == b.blocks.size());
-  for (std::size_t i = 0; i < a.blocks.size(); ++i) {
-    CAPTURE(i);
-    const auto& x = a.blocks[i];
-    const auto& y = b.blocks[i];
-    CHECK(x.origin == y.origin);
-    REQUIRE(x.faces.size() == y.faces.size());
-    for (std::size_t k = 0; k < x.faces.size(); ++k) {
-      CHECK(x.faces[k].normal == y.faces[k].normal);
-      CHECK(x.faces[k].d == y.faces[k].d);
-      CHECK(x.faces[k].joint == y.faces[k].joint);
-    }
-    CHECK(x.inradius == y.inradius);
-    CHECK(x.bsphere == y.bsphere);
-    CHECK(x.flags == y.flags);
-    CHECK(x.cluster == y.cluster);
-  }
 }
 
 std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }

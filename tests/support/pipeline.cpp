@@ -1,0 +1,41 @@
+#include "support/pipeline.hpp"
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+
+namespace test {
+
+std::string run_pipeline(const TempDir& tmp, const std::string& scene, Stage last) {
+  const std::string joints = (tmp / "joints.h5").string(), blocks = (tmp / "blocks.h5").string(),
+                    geom = (tmp / "geom.h5").string();
+  const auto step = [](const std::string& tool, const std::vector<std::string>& args) {
+    const auto r = run_tool(tool, args);
+    INFO(tool << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+  };
+  step("slice-joints", {data_path(scene).string(), "-o", joints});
+  if (last == Stage::joints) return joints;
+  step("slice-cut", {joints, "-o", blocks, "--prune"});
+  if (last == Stage::blocks) return blocks;
+  step("slice-vertices", {blocks, "-o", geom});
+  return geom;
+}
+
+void check_bad_scenes(const std::vector<BadScene>& cases) {
+  for (const auto& c : cases) {
+    CAPTURE(c.name, c.text);
+    TempDir tmp;
+    write_text(tmp / "bad.toml", c.text);
+    const auto out = tmp / "j.h5";
+    const auto r = run_tool("slice-joints", {(tmp / "bad.toml").string(), "-o", out.string()});
+    CHECK(r.exit_code == 1);
+    CHECK_THAT(r.err, Catch::StartsWith("slice-joints: error: "));
+    CHECK_THAT(r.err, Catch::Contains("bad.toml"));
+    for (const auto& w : c.words) CHECK_THAT(r.err, Catch::Contains(w));
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_FALSE(fs::exists(out));
+    CHECK_FALSE(fs::exists(tmp / "j.h5.partial"));
+  }
+}
+
+}  // namespace test

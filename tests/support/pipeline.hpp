@@ -1,0 +1,30 @@
+#pragma once
+// The real tools chained on a data/ scene, and bad-scene checks, shared by integration tests.
+#include <string>
+#include <vector>
+
+#include "support/support.hpp"
+
+namespace test {
+
+enum class Stage {
+  joints,    // slice-joints scene -o joints.h5
+  blocks,    // ... | slice-cut --prune -o blocks.h5
+  geometry,  // ... | slice-vertices -o geom.h5
+};
+
+/// Runs the pipeline on data/<scene> into tmp up to `last` (Catch2 REQUIREs every exit code);
+/// returns the path of the last output.
+std::string run_pipeline(const TempDir& tmp, const std::string& scene, Stage last);
+
+struct BadScene {
+  std::string name;                // what is wrong
+  std::string text;                // the scene
+  std::vector<std::string> words;  // the error line must contain each, e.g. ":6", "spacing"
+};
+
+/// slice-joints on each bad scene: exit 1, one line "slice-joints: error: bad.toml:..."
+/// containing the words, no output and no .partial left.
+void check_bad_scenes(const std::vector<BadScene>& cases);
+
+}  // namespace test
