@@ -9,14 +9,6 @@
 #include "slice/error.hpp"
 #include "slice/h5io.hpp"
 
-namespace {
-std::string fixed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  return buf;
-}
-}  // namespace
-
 int main(int argc, char** argv) {
   tool::Tool t{"slice-cut",
                "Cut the domain of a joints.h5 file into convex blocks, one LP per decision."};
@@ -76,8 +68,9 @@ int main(int argc, char** argv) {
           ", Chebyshev " + std::to_string(s.lps.chebyshev) + ", contacts " +
           std::to_string(s.lps.contact) + (prune ? ", redundancy " + std::to_string(ps.lps) : "") +
           ", failed " + std::to_string(s.lps.failed + ps.failed));
-    t.say("time: cut " + fixed(s.seconds_cut, 3) + " s, finish " + fixed(s.seconds_finish, 3) +
-          " s" + (prune ? ", prune " + fixed(ps.seconds, 3) + " s" : "") +
+    t.say("time: cut " + tool::fixed(s.seconds_cut, 3) + " s, finish " +
+          tool::fixed(s.seconds_finish, 3) + " s" +
+          (prune ? ", prune " + tool::fixed(ps.seconds, 3) + " s" : "") +
           (prune ? "; faces " + std::to_string(ps.faces_before) + " -> " +
                        std::to_string(ps.faces_after)
                  : ""));

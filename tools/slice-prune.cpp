@@ -18,10 +18,8 @@ int main(int argc, char** argv) {
     const slice::PruneStats s = slice::prune_blocks(bs, lp, t.progress());
     const std::string target = out.empty() ? in : out;
     slice::write_blocks(target, bs, t.provenance(in));
-    char secs[32];
-    std::snprintf(secs, sizeof secs, "%.3f", s.seconds);
     t.say(std::to_string(bs.blocks.size()) + " blocks: faces " + std::to_string(s.faces_before) +
           " -> " + std::to_string(s.faces_after) + " (" + std::to_string(s.lps) + " LPs, " +
-          std::to_string(s.failed) + " failed, " + secs + " s) -> " + target);
+          std::to_string(s.failed) + " failed, " + tool::fixed(s.seconds, 3) + " s) -> " + target);
   });
 }

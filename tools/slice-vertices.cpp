@@ -9,14 +9,6 @@
 #include "slice/h5io.hpp"
 #include "slice/vertices.hpp"
 
-namespace {
-std::string fixed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  return buf;
-}
-}  // namespace
-
 int main(int argc, char** argv) {
   tool::Tool t{"slice-vertices",
                "Compute the vertices, face loops and mass properties of every block (/geometry)."};
@@ -38,13 +30,14 @@ int main(int argc, char** argv) {
     if (!bs.pruned) {
       const auto ps = slice::prune_blocks(bs, slice::parse_lp_backend(backend), t.progress());
       t.say("pruned: faces " + std::to_string(ps.faces_before) + " -> " +
-            std::to_string(ps.faces_after) + " (" + fixed(ps.seconds, 3) + " s)");
+            std::to_string(ps.faces_after) + " (" + tool::fixed(ps.seconds, 3) + " s)");
     }
     const slice::GeometryStats s = slice::compute_geometry(bs, t.progress());
     slice::write_blocks(out, bs, t.provenance(in));
     const double us = s.blocks ? 1e6 * s.seconds / double(s.blocks) : 0;
     t.say(std::to_string(s.blocks) + " blocks, " + std::to_string(s.vertices) + " vertices, " +
           std::to_string(s.faces) + " faces -> " + out);
-    t.say("time: vertices " + fixed(s.seconds, 3) + " s (" + fixed(us, 1) + " us per block)");
+    t.say("time: vertices " + tool::fixed(s.seconds, 3) + " s (" + tool::fixed(us, 1) +
+          " us per block)");
   });
 }

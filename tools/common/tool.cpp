@@ -1,5 +1,6 @@
 #include "common/tool.hpp"
 
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -58,6 +59,12 @@ slice::Provenance Tool::provenance(const std::string& input) const {
 
 void Tool::say(const std::string& line) const {
   if (!quiet) std::cerr << name_ << ": " << line << '\n';
+}
+
+std::string fixed(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
+  return buf;
 }
 
 void check_output_differs(const std::string& input, const std::string& output) {

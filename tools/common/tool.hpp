@@ -41,6 +41,9 @@ class Tool {
   std::unique_ptr<ProgressBar> bar_;
 };
 
+/// x with `digits` decimals ("0.125"), for the figures tools report.
+std::string fixed(double x, int digits);
+
 /// Refuses to write an output over an input (a common slip that would destroy data).
 void check_output_differs(const std::string& input, const std::string& output);
 
