@@ -23,13 +23,11 @@ using test::run_tool;
 
 namespace {
 
-std::string quote(const std::string& s) { return "'" + s + "'"; }
-
 /// Runs `yade -n -x script args...` with its output in `log`; returns the exit code.
 int run_yade(const std::string& script, const std::string& args, const test::fs::path& log) {
   REQUIRE(test::run_shell("command -v yade >/dev/null 2>&1") == 0);  // pipelines/setup installs it
-  return test::run_shell("yade -n -x " + quote(script) + " " + args + " </dev/null >" +
-                         quote(log.string()) + " 2>&1");
+  return test::run_shell("yade -n -x " + test::shell_quote(script) + " " + args + " </dev/null >" +
+                         test::shell_quote(log.string()) + " 2>&1");
 }
 
 }  // namespace
@@ -49,8 +47,9 @@ TEST_CASE("the YADE model runs 100 steps in YADE and matches /geometry", "[tools
       run_tool("slice-export", {geom, "--format", "yade", "--yade-steps", "100", "-o", model});
   INFO(ex.err);
   REQUIRE(ex.exit_code == 0);
-  const int code = run_yade(test::test_data_path("yade_report.py").string(),
-                            quote(model) + " " + quote(report), tmp / "yade.log");
+  const int code =
+      run_yade(test::test_data_path("yade_report.py").string(),
+               test::shell_quote(model) + " " + test::shell_quote(report), tmp / "yade.log");
   INFO("yade log (tail): " << [&] {
     const std::string l = test::read_bytes(tmp / "yade.log");
     return l.substr(l.size() > 2000 ? l.size() - 2000 : 0);

@@ -39,13 +39,11 @@ std::string read_bytes(const fs::path& file) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-namespace {
-std::string quote(const std::string& s) {
+std::string shell_quote(const std::string& s) {
   std::string q = "'";
   for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return q + "'";
 }
-}  // namespace
 
 int run_shell(const std::string& command) {
   const int status = std::system(command.c_str());
@@ -55,15 +53,15 @@ int run_shell(const std::string& command) {
 
 ToolRun run_tool(const std::string& tool, const std::vector<std::string>& args) {
   TempDir tmp;
-  std::string cmd = quote((fs::path(SLICE_TOOLS_DIR) / tool).string());
+  std::string cmd = shell_quote((fs::path(SLICE_TOOLS_DIR) / tool).string());
   for (const auto& a : args) {
     cmd += ' ';
-    cmd += quote(a);
+    cmd += shell_quote(a);
   }
   cmd += " </dev/null >";
-  cmd += quote((tmp / "out").string());
+  cmd += shell_quote((tmp / "out").string());
   cmd += " 2>";
-  cmd += quote((tmp / "err").string());
+  cmd += shell_quote((tmp / "err").string());
   ToolRun r;
   r.exit_code = run_shell(cmd);
   r.out = read_bytes(tmp / "out");

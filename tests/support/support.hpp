@@ -40,6 +40,10 @@ struct ToolRun {
 /// Runs a built tool (e.g. "slice-joints") with arguments, no shell quoting issues for plain
 /// paths; stdin is /dev/null.
 ToolRun run_tool(const std::string& tool, const std::vector<std::string>& args);
+/// s as one /bin/sh word: in single quotes, any single quote in it escaped.
+std::string shell_quote(const std::string& s);
+inline std::string shell_quote(const fs::path& p) { return shell_quote(p.string()); }
+
 /// Runs any command line through /bin/sh; returns its exit code.
 int run_shell(const std::string& command);
 

@@ -147,8 +147,6 @@ slice::Provenance sample_provenance() {
           std::string(64, 'a')};
 }
 
-std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
-
 // The message of the slice::Error that `f` throws ("" if it throws none).
 std::string error_of(const std::function<void()>& f) {
   try {
@@ -201,7 +199,8 @@ TEST_CASE("empty systems round trip (zero-row datasets)", "[h5io]") {
   check_same(slice::read_joints(dir / "joints.h5"), bs.joints);
   slice::write_blocks(dir / "blocks.h5", bs, {});
   check_same(slice::read_blocks(dir / "blocks.h5"), bs);
-  CHECK(test::run_shell("/usr/bin/h5dump " + quote(dir / "blocks.h5") + " >/dev/null 2>&1") == 0);
+  CHECK(test::run_shell("/usr/bin/h5dump " + test::shell_quote(dir / "blocks.h5") +
+                        " >/dev/null 2>&1") == 0);
 }
 
 TEST_CASE("the same content gives the same bytes", "[h5io]") {
@@ -221,8 +220,8 @@ TEST_CASE("h5dump reads both files", "[h5io]") {
   for (const char* name : {"joints.h5", "blocks.h5"}) {
     CAPTURE(name);
     const fs::path dump = dir / (std::string(name) + ".txt");
-    REQUIRE(test::run_shell("/usr/bin/h5dump " + quote(dir / name) + " >" + quote(dump) +
-                            " 2>&1") == 0);
+    REQUIRE(test::run_shell("/usr/bin/h5dump " + test::shell_quote(dir / name) + " >" +
+                            test::shell_quote(dump) + " 2>&1") == 0);
     const std::string text = test::read_bytes(dump);
     CHECK_THAT(text, Contains("ATTRIBUTE \"schema\"") && Contains("\"rockslice\"") &&
                          Contains("DATASET \"normal\"") && Contains("H5T_STR_NULLTERM"));
