@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "slice/error.hpp"
-#include "slice/orientation.hpp"
 #include "slice/polytope.hpp"
 #include "sphere_grid.hpp"
 
@@ -36,12 +35,8 @@ PreparedJoint prepare(const Joint& j) {
   p.plane = j.plane;
   p.centre = j.centre;
   if (j.persistent()) return p;
-  const JointFrame f = plane_frame(j.dip_deg, j.dip_direction_deg);
-  std::vector<Vec3> v;
-  for (const Vec2& uv : j.polygon_uv) {
-    v.push_back(f.to_global(j.centre, uv));
-    p.radius = std::max(p.radius, uv.norm());
-  }
+  const std::vector<Vec3> v = joint_polygon(j);
+  for (const Vec2& uv : j.polygon_uv) p.radius = std::max(p.radius, uv.norm());
   p.lo = p.hi = v.front();
   for (std::size_t k = 0; k < v.size(); ++k) {
     const Vec3& a = v[k];

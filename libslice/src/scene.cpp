@@ -1220,6 +1220,14 @@ JointSystem generate_joints(const Scene& scene) {
   return js;
 }
 
+std::vector<Vec3> joint_polygon(const Joint& j) {
+  std::vector<Vec3> p;
+  if (j.persistent()) return p;
+  const JointFrame f = plane_frame(j.dip_deg, j.dip_direction_deg);
+  for (const Vec2& uv : j.polygon_uv) p.push_back(f.to_global(j.centre, uv));
+  return p;
+}
+
 double polygon_area(const Joint& j) {
   if (j.persistent()) return std::numeric_limits<double>::infinity();
   const auto& p = j.polygon_uv;

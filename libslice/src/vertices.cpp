@@ -11,7 +11,6 @@
 
 #include "slice/error.hpp"
 #include "slice/lp.hpp"
-#include "slice/orientation.hpp"
 
 namespace slice {
 namespace {
@@ -158,14 +157,6 @@ std::vector<Vec3> clip_polygon(const std::vector<Vec3>& polygon, const Plane& h)
     if ((da < 0 && db > 0) || (da > 0 && db < 0)) out.push_back(a + (b - a) * (da / (da - db)));
   }
   return out;
-}
-
-std::vector<Vec3> joint_polygon(const Joint& j) {
-  std::vector<Vec3> p;
-  if (j.persistent()) return p;
-  const JointFrame f = plane_frame(j.dip_deg, j.dip_direction_deg);
-  for (const Vec2& uv : j.polygon_uv) p.push_back(f.to_global(j.centre, uv));
-  return p;
 }
 
 MassProperties mass_properties(const std::vector<Vec3>& vertices,

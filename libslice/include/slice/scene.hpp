@@ -184,6 +184,10 @@ JointSystem generate_joints(const Scene& scene);
 /// alternating (one joint of each set in turn, each set largest first). Stable.
 void order_joints(std::vector<Joint>& joints, JointOrder order);
 
+/// A joint's polygon in global coordinates, counter-clockwise about its upward normal; empty
+/// for a persistent joint.
+std::vector<Vec3> joint_polygon(const Joint& j);
+
 /// Area of a joint's polygon; +infinity for a persistent joint.
 double polygon_area(const Joint& j);
 

@@ -61,10 +61,6 @@ Vec3 newell_normal(const std::vector<Vec3>& polygon);
 /// order. Sutherland-Hodgman; points on the plane are kept.
 std::vector<Vec3> clip_polygon(const std::vector<Vec3>& polygon, const Plane& h);
 
-/// A joint's polygon in global coordinates, counter-clockwise about its upward normal; empty
-/// for a persistent joint.
-std::vector<Vec3> joint_polygon(const Joint& j);
-
 struct GeometryStats {
   std::size_t blocks = 0, vertices = 0, faces = 0;
   double seconds = 0;  // compute_geometry's own time (no file I/O)
