@@ -162,38 +162,63 @@ std::unique_ptr<LpSolver> make_solver(LpBackend backend) {
 //                     s >= -(2 max|d_i| + L)
 // The bound never binds for a bounded block (s* >= -inradius >= -max d_i); it only keeps an
 // unbounded region (a block of cones) from making the LP unbounded.
-PlaneFrame cut_test_lp(std::span<const Face> faces, const Plane& plane,
-                       std::span<const Plane> edges, const Tolerances& tol, DenseLp& lp) {
+namespace {
+
+/// Checks the plane, faces and edges and returns the LP's parts.
+CutLp cut_setup(std::span<const Face> faces, const Plane& plane, std::span<const Plane> edges,
+                const Tolerances& tol) {
   check_unit(plane.normal, plane.d, "cut test", "joint plane", 0);
-  PlaneFrame f;
-  plane_basis(plane.normal, f.u, f.v);
-  f.p0 = plane.d * plane.normal;
-  // Every field set here; the rows are overwritten in place (resize keeps the capacity and, at
-  // the same size, constructs nothing), the faces checked in the same pass.
+  CutLp cut;
+  cut.faces = faces;
+  cut.edges = edges;
+  plane_basis(plane.normal, cut.frame.u, cut.frame.v);
+  cut.frame.p0 = plane.d * plane.normal;
+  double dmax = 0;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    check_unit(faces[i].normal, faces[i].d, "cut test", "face", i);
+    dmax = std::max(dmax, std::abs(faces[i].d));
+  }
+  for (std::size_t k = 0; k < edges.size(); ++k)
+    check_unit(edges[k].normal, edges[k].d, "cut test", "polygon edge", k);
+  cut.s_lower = -(2 * dmax + tol.length_scale);
+  cut.scale = std::max(block_scale(dmax, tol), std::abs(plane.d));
+  return cut;
+}
+
+/// Fills lp with the cut LP. Every field is set; the rows are overwritten in place (resize keeps
+/// the capacity and, at the same size, constructs nothing).
+void fill_cut_lp(const CutLp& cut, DenseLp& lp) {
   lp.vars = 3;
   lp.maximise = false;
   lp.c = LpVec(0, 0, 1, 0);
   lp.lower.setConstant(-DenseLp::kInf);
   lp.upper.setConstant(DenseLp::kInf);
-  lp.rows.resize(faces.size() + edges.size());
+  lp.lower[2] = cut.s_lower;
+  lp.scale = cut.scale;
+  lp.rows.resize(cut.faces.size() + cut.edges.size());
   LpRow* row = lp.rows.data();
-  double dmax = 0;
-  for (std::size_t i = 0; i < faces.size(); ++i, ++row) {
-    const Face& face = faces[i];
-    check_unit(face.normal, face.d, "cut test", "face", i);
-    dmax = std::max(dmax, std::abs(face.d));
-    row->a = LpVec(face.normal.dot(f.u), face.normal.dot(f.v), -1, 0);
-    row->b = face.d - face.normal.dot(f.p0);
-  }
-  for (std::size_t k = 0; k < edges.size(); ++k, ++row) {
-    const Plane& e = edges[k];
-    check_unit(e.normal, e.d, "cut test", "polygon edge", k);
-    row->a = LpVec(e.normal.dot(f.u), e.normal.dot(f.v), -1, 0);
-    row->b = e.d - e.normal.dot(f.p0);
-  }
-  lp.lower[2] = -(2 * dmax + tol.length_scale);
-  lp.scale = std::max(block_scale(dmax, tol), std::abs(plane.d));
-  return f;
+  const auto put = [&](const Vec3& n, double d) {
+    const detail::CutRow r = detail::cut_row(n, d, cut.frame);
+    row->a = LpVec(r.au, r.av, -1, 0);
+    row->b = r.b;
+    ++row;
+  };
+  for (const Face& f : cut.faces) put(f.normal, f.d);
+  for (const Plane& e : cut.edges) put(e.normal, e.d);
+}
+
+}  // namespace
+
+PlaneFrame cut_test_lp(std::span<const Face> faces, const Plane& plane,
+                       std::span<const Plane> edges, const Tolerances& tol, DenseLp& lp) {
+  const CutLp cut = cut_setup(faces, plane, edges, tol);
+  fill_cut_lp(cut, lp);
+  return cut.frame;
+}
+
+LpResult LpSolver::solve_cut(const CutLp& cut) {
+  fill_cut_lp(cut, scratch_);
+  return solve(scratch_);
 }
 
 CutTest cut_test_result(const LpResult& r, const PlaneFrame& frame, const Tolerances& tol) {
@@ -209,9 +234,8 @@ CutTest cut_test_result(const LpResult& r, const PlaneFrame& frame, const Tolera
 
 CutTest cut_test(LpSolver& solver, std::span<const Face> faces, const Plane& plane,
                  std::span<const Plane> edges, const Tolerances& tol) {
-  DenseLp& lp = solver.scratch();
-  const PlaneFrame frame = cut_test_lp(faces, plane, edges, tol, lp);
-  return cut_test_result(solver.solve(lp), frame, tol);
+  const CutLp cut = cut_setup(faces, plane, edges, tol);
+  return cut_test_result(solver.solve_cut(cut), cut.frame, tol);
 }
 
 // Boon et al. 2015, eq. 8: maximise c . x over the other faces, c the tested face's normal.

@@ -43,7 +43,9 @@
 #include <cmath>
 #include <limits>
 #include <vector>
-#if defined(__SSE2__)
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#elif defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 
@@ -85,37 +87,69 @@ constexpr double kRecessionTol = 1e-9;
 
 enum class Outcome { optimal, infeasible, infeasible_in_box, unbounded, failed };
 
-/// The rows, then the finite variable bounds as rows, copied column by column (a_0 .. a_{N-1},
-/// then b), each column `stride` long (rounded up to even with a pad row a = 0, b = +inf that is
-/// never violated), so that pricing reads two rows per SSE2 step. Filled once per solve, in
-/// the pass that also checks the rows.
+/// The whole LP as the solver reads it: the rows, then the finite variable bounds as rows, copied
+/// column by column (a_0 .. a_{N-1}, then b), each column `stride` long (rounded up to a multiple
+/// of 4 with pad rows a = 0, b = +inf that are never violated), so that pricing reads four rows
+/// per AVX2 step or two per SSE2 step; and the bounds and scale. Filled once per solve, straight
+/// from a DenseLp or from the cut test's faces, in the pass that also checks or scales the rows.
 struct Columns {
   const double* data = nullptr;
   int stride = 0;
-  int rows = 0;                                 // lp.rows.size() + bounds
-  int m = 0;                                    // lp.rows.size()
+  int rows = 0;                                 // m + bounds
+  int m = 0;                                    // LP rows (not bounds)
   double bmax = 0;                              // max |b|
-  double amax1 = 0;                             // max |a_i|_1
+  double amax1 = 1;                             // max(1, max |a_i|_1)
+  double scale = 1;                             // DenseLp::scale
+  LpVec lower, upper;                           // the variable bounds (infinite: none)
   std::array<int, 2 * kLpMaxVars> bound_row{};  // column row m + k is LP row bound_row[k]
   /// The LP row (m + 2j: lower bound of x_j, m + 2j + 1: upper) of column row k.
   int lp_row(int k) const { return k < m ? k : bound_row[static_cast<std::size_t>(k - m)]; }
 };
 
+/// Sizes `buffer` for m rows and the finite bounds of `lower` and `upper`, and writes the bound
+/// rows and the pad rows; the caller writes rows 0 .. m-1 (d[j * stride + i], b at j = N) and
+/// folds their max |b| and max |a|_1 into bmax and amax1.
+template <int N>
+double* start_columns(Columns& cols, std::vector<double>& buffer, int m, const LpVec& lower,
+                      const LpVec& upper, double scale) {
+  cols.m = m;
+  cols.lower = lower;
+  cols.upper = upper;
+  cols.scale = scale;
+  int nb = 0;
+  for (int j = 0; j < N; ++j) {
+    if (lower[j] != -kInf) cols.bound_row[static_cast<std::size_t>(nb++)] = m + 2 * j;
+    if (upper[j] != kInf) cols.bound_row[static_cast<std::size_t>(nb++)] = m + 2 * j + 1;
+  }
+  cols.rows = m + nb;
+  const int n = cols.stride = (cols.rows + 3) & ~3;
+  buffer.resize(static_cast<std::size_t>((N + 1) * n));  // keeps its capacity
+  double* d = buffer.data();
+  for (int k = 0; k < nb; ++k) {
+    const int i = m + k, row = cols.bound_row[static_cast<std::size_t>(k)] - m;
+    const int j = row / 2;
+    const bool up = row % 2 == 1;
+    for (int l = 0; l < N; ++l) d[l * n + i] = l == j ? (up ? 1.0 : -1.0) : 0.0;
+    d[N * n + i] = up ? upper[j] : -lower[j];
+    cols.bmax = std::max(cols.bmax, std::abs(d[N * n + i]));
+  }
+  for (int i = cols.rows; i < n; ++i) {
+    for (int j = 0; j < N; ++j) d[j * n + i] = 0;
+    d[N * n + i] = kInf;
+  }
+  cols.data = d;
+  return d;
+}
+
+/// The columns of a DenseLp; finite: no row has a NaN or inf.
 template <int N>
 Columns copy_columns(const DenseLp& lp, std::vector<double>& buffer, bool& finite) {
   Columns cols;
-  cols.m = static_cast<int>(lp.rows.size());
-  int nb = 0;
-  for (int j = 0; j < N; ++j) {
-    if (lp.lower[j] != -kInf) cols.bound_row[static_cast<std::size_t>(nb++)] = cols.m + 2 * j;
-    if (lp.upper[j] != kInf) cols.bound_row[static_cast<std::size_t>(nb++)] = cols.m + 2 * j + 1;
-  }
-  cols.rows = cols.m + nb;
-  const int n = cols.stride = (cols.rows + 1) & ~1;
-  buffer.resize(static_cast<std::size_t>((N + 1) * n));  // keeps its capacity
-  double* d = buffer.data();
+  const int m = static_cast<int>(lp.rows.size());
+  double* d = start_columns<N>(cols, buffer, m, lp.lower, lp.upper, lp.scale);
+  const int n = cols.stride;
   double sum = 0;
-  for (int i = 0; i < cols.m; ++i) {
+  for (int i = 0; i < m; ++i) {
     const LpRow& r = lp.rows[static_cast<std::size_t>(i)];
     double a1 = 0;
     for (int j = 0; j < N; ++j) {
@@ -127,29 +161,44 @@ Columns copy_columns(const DenseLp& lp, std::vector<double>& buffer, bool& finit
     cols.amax1 = std::max(cols.amax1, a1);
     cols.bmax = std::max(cols.bmax, std::abs(r.b));
   }
-  for (int k = 0; k < nb; ++k) {
-    const int i = cols.m + k, row = cols.bound_row[static_cast<std::size_t>(k)] - cols.m;
-    const int j = row / 2;
-    const bool upper = row % 2 == 1;
-    for (int l = 0; l < N; ++l) d[l * n + i] = l == j ? (upper ? 1.0 : -1.0) : 0.0;
-    d[N * n + i] = upper ? lp.upper[j] : -lp.lower[j];
-    cols.bmax = std::max(cols.bmax, std::abs(d[N * n + i]));
-  }
-  cols.amax1 = std::max(cols.amax1, 1.0);
-  if (cols.rows % 2 == 1) {
-    for (int j = 0; j < N; ++j) d[j * n + cols.rows] = 0;
-    d[N * n + cols.rows] = kInf;
-  }
   finite = std::isfinite(sum);
-  cols.data = d;
+  return cols;
+}
+
+/// The columns of the cut test's LP (x = (u, v, s)), rows by cut_row as in every backend. The
+/// faces and edges were checked (unit normals, finite d) by cut_test.
+Columns cut_columns(const CutLp& cut, std::vector<double>& buffer) {
+  Columns cols;
+  const int m = static_cast<int>(cut.faces.size() + cut.edges.size());
+  const LpVec lower(-kInf, -kInf, cut.s_lower, -kInf);
+  double* d = start_columns<3>(cols, buffer, m, lower, LpVec::Constant(kInf), cut.scale);
+  const int n = cols.stride;
+  double bmax = cols.bmax, a1max = 0;
+  const auto put = [&](int i, const Vec3& normal, double dist) {
+    const CutRow r = cut_row(normal, dist, cut.frame);
+    d[i] = r.au;
+    d[n + i] = r.av;
+    d[2 * n + i] = -1;
+    d[3 * n + i] = r.b;
+    bmax = std::max(bmax, std::abs(r.b));
+    a1max = std::max(a1max, std::abs(r.au) + std::abs(r.av));
+  };
+  int i = 0;
+  for (const Face& f : cut.faces) put(i++, f.normal, f.d);
+  for (const Plane& e : cut.edges) put(i++, e.normal, e.d);
+  cols.bmax = bmax;
+  cols.amax1 = std::max(cols.amax1, a1max + 1);
   return cols;
 }
 
 /// The arg-max of a_i . x - w b_i over the rows in `cols` (w = 1, or 0 for the recession LP),
-/// if above `best`: updates best and q. Two rows per step on SSE2; a new maximum is rare
-/// after the first rows, so it is a branch and not a dependency between steps.
+/// if above `best`: updates best and q (ties: the first row). Four rows per step on AVX2 (chosen
+/// at run time), else two on SSE2. Each lane computes ((a_0 x_0 + a_1 x_1) + ...) - b_i w in the
+/// same order and with no fused multiply-add on every path, so the choice is the same bit for
+/// bit on every x86-64. A new maximum is rare after the first rows, so it is a branch and not a
+/// dependency between steps.
 template <int N>
-void argmax_rows(const Columns& cols, const double* x, double w, double& best, int& q) {
+void argmax_rows_sse2(const Columns& cols, const double* x, double w, double& best, int& q) {
   const int n = cols.stride;
   const double* a = cols.data;
 #if defined(__SSE2__)
@@ -185,6 +234,52 @@ void argmax_rows(const Columns& cols, const double* x, double w, double& best, i
 #endif
 }
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#define SLICE_HAVE_AVX2_PATH 1
+template <int N>
+__attribute__((target("avx2"))) void argmax_rows_avx2(const Columns& cols, const double* x,
+                                                      double w, double& best, int& q) {
+  const int n = cols.stride;
+  const double* a = cols.data;
+  __m256d xv[N];
+  for (int j = 0; j < N; ++j) xv[j] = _mm256_set1_pd(x[j]);
+  const __m256d wv = _mm256_set1_pd(w);
+  __m256d bestv = _mm256_set1_pd(best);
+  for (int i = 0; i < n; i += 4) {
+    __m256d v = _mm256_mul_pd(_mm256_loadu_pd(a + i), xv[0]);
+    for (int j = 1; j < N; ++j)
+      v = _mm256_add_pd(v, _mm256_mul_pd(_mm256_loadu_pd(a + j * n + i), xv[j]));
+    v = _mm256_sub_pd(v, _mm256_mul_pd(_mm256_loadu_pd(a + N * n + i), wv));
+    if (__builtin_expect(_mm256_movemask_pd(_mm256_cmp_pd(v, bestv, _CMP_GT_OQ)) != 0, 0)) {
+      alignas(32) double vv[4];
+      _mm256_store_pd(vv, v);
+      for (int l = 0; l < 4; ++l)
+        if (vv[l] > best) {
+          best = vv[l];
+          q = i + l;
+        }
+      bestv = _mm256_set1_pd(best);
+    }
+  }
+}
+
+bool cpu_has_avx2() {
+  static const bool has = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return has;
+}
+#endif
+
+template <int N>
+void argmax_rows(const Columns& cols, const double* x, double w, double& best, int& q) {
+#if defined(SLICE_HAVE_AVX2_PATH)
+  if (cpu_has_avx2()) return argmax_rows_avx2<N>(cols, x, w, best, q);
+#endif
+  argmax_rows_sse2<N>(cols, x, w, best, q);
+}
+
 template <int N>
 class DualSimplex {
  public:
@@ -192,13 +287,12 @@ class DualSimplex {
   using Mat = Eigen::Matrix<double, N, N>;
 
   /// homogeneous: solve the recession LP (b = 0, finite bounds 0, free variables in [-1, 1]).
-  /// cols: the rows of lp, column by column.
-  DualSimplex(const DenseLp& lp, const Columns& cols, const Vec& c, double box, bool homogeneous)
-      : lp_(lp),
-        cols_(cols),
+  /// cols: the LP, column by column; c: the cost to minimise.
+  DualSimplex(const Columns& cols, const Vec& c, double box, bool homogeneous)
+      : cols_(cols),
         c_(c),
         cmax_(c.cwiseAbs().maxCoeff()),
-        m_(static_cast<int>(lp.rows.size())),
+        m_(cols.m),
         box_(box),
         homog_(homogeneous),
         bmax_(homogeneous ? 0.0 : cols.bmax) {}
@@ -302,13 +396,13 @@ class DualSimplex {
   // Rows 0..m-1 are lp.rows; row m + 2j is -x_j <= -lower_j, row m + 2j + 1 is x_j <= upper_j.
   double bound(int i) const {  // the bound of row i >= m as the row's b (+inf if none)
     const int j = (i - m_) / 2;
-    return ((i - m_) % 2 == 0) ? -lp_.lower[j] : lp_.upper[j];
+    return ((i - m_) % 2 == 0) ? -cols_.lower[j] : cols_.upper[j];
   }
   bool artificial(int i) const { return i >= m_ && !homog_ && bound(i) == kInf; }
   Row row(int i) const {
     if (i < m_) {
-      const Vec a = lp_.rows[i].a.template head<N>();
-      return {a, homog_ ? 0.0 : lp_.rows[i].b, a.cwiseAbs().maxCoeff()};
+      const Vec a = col_a(i);
+      return {a, col_b(i), a.cwiseAbs().maxCoeff()};
     }
     Vec a = Vec::Zero();
     a[(i - m_) / 2] = ((i - m_) % 2 == 0) ? -1 : 1;
@@ -318,7 +412,7 @@ class DualSimplex {
   }
 
   double threshold() const {
-    return kFeasUlps * kEps * (lp_.scale + x_.cwiseAbs().maxCoeff() + bmax_);
+    return kFeasUlps * kEps * (cols_.scale + x_.cwiseAbs().maxCoeff() + bmax_);
   }
 
   void start_basis() {
@@ -560,7 +654,6 @@ class DualSimplex {
     return best;
   }
 
-  const DenseLp& lp_;
   const Columns& cols_;
   Vec c_;
   double cmax_;
@@ -582,17 +675,15 @@ class DualSimplex {
   int iterations_ = 0;
 };
 
+/// Solves min c . x over the LP in `cols`; objective = c_orig . x (c_orig: the LP's own c,
+/// before a maximisation's sign change).
 template <int N>
-LpResult solve_fixed(const DenseLp& lp, std::vector<double>& buffer) {
-  using Vec = typename DualSimplex<N>::Vec;
-  bool finite = true;
-  const Columns cols = copy_columns<N>(lp, buffer, finite);
-  if (!finite) lp.validate();  // throws, naming the row (else a finite sum overflowed)
-  const Vec c = (lp.maximise ? -lp.c : lp.c).template head<N>();
+LpResult solve_columns(const Columns& cols, const Eigen::Matrix<double, N, 1>& c,
+                       const Eigen::Matrix<double, N, 1>& c_orig) {
   LpResult out;
-  double box = kBoxFactor * lp.scale;
+  double box = kBoxFactor * cols.scale;
   for (int level = 0; level < kBoxLevels; ++level, box *= kBoxGrowth) {
-    DualSimplex<N> dual(lp, cols, c, box, false);
+    DualSimplex<N> dual(cols, c, box, false);
     const Outcome o = dual.run();
     out.iterations += dual.iterations();
     if (o == Outcome::failed) return out;
@@ -609,7 +700,7 @@ LpResult solve_fixed(const DenseLp& lp, std::vector<double>& buffer) {
       continue;
     }
     if (dual.leans_on_box()) {
-      DualSimplex<N> rec(lp, cols, c, 1, true);
+      DualSimplex<N> rec(cols, c, 1, true);
       const Outcome ro = rec.run();
       out.iterations += rec.iterations();
       if (ro == Outcome::optimal && c.dot(rec.x()) < -kRecessionTol * c.cwiseAbs().sum()) {
@@ -621,10 +712,19 @@ LpResult solve_fixed(const DenseLp& lp, std::vector<double>& buffer) {
     out.status = LpStatus::optimal;
     out.x.setZero();
     out.x.template head<N>() = dual.x();
-    out.objective = lp.c.template head<N>().dot(dual.x());
+    out.objective = c_orig.dot(dual.x());
     return out;
   }
   return out;
+}
+
+template <int N>
+LpResult solve_fixed(const DenseLp& lp, std::vector<double>& buffer) {
+  bool finite = true;
+  const Columns cols = copy_columns<N>(lp, buffer, finite);
+  if (!finite) lp.validate();  // throws, naming the row (else a finite sum overflowed)
+  const Eigen::Matrix<double, N, 1> c = lp.c.template head<N>();
+  return solve_columns<N>(cols, lp.maximise ? Eigen::Matrix<double, N, 1>(-c) : c, c);
 }
 
 class NativeSolver final : public LpSolver {
@@ -648,6 +748,11 @@ class NativeSolver final : public LpSolver {
         return solve_fixed<4>(lp, buffer_);
     }
     SLICE_ASSERT(false);
+  }
+  LpResult solve_cut(const CutLp& cut) override {
+    const Columns cols = cut_columns(cut, buffer_);
+    const Eigen::Vector3d c(0, 0, 1);
+    return solve_columns<3>(cols, c, c);
   }
 
  private:
