@@ -35,8 +35,8 @@ std::string lower_case(std::string_view s) {
 /// Throws unless n is a finite unit vector and d finite (a NaN or inf in n fails the first test).
 inline void check_unit(const Vec3& n, double d, const char* where, const char* what,
                        std::size_t i) {
-  if (!(std::abs(n.squaredNorm() - 1) <= kUnitNormalTol) || !std::isfinite(d))
-    bad_normal(n, d, where, what, i);
+  const double n2 = n.x() * n.x() + n.y() * n.y() + n.z() * n.z();
+  if (!(std::abs(n2 - 1) <= kUnitNormalTol) || !std::isfinite(d)) bad_normal(n, d, where, what, i);
 }
 
 /// Checks the faces and returns max |d_i| (0 for no faces).

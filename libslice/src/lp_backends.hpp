@@ -13,7 +13,11 @@ struct CutRow {
   double au, av, b;
 };
 inline CutRow cut_row(const Vec3& n, double d, const PlaneFrame& f) {
-  return {n.dot(f.u), n.dot(f.v), d - n.dot(f.p0)};
+  // Written out: the same sums in the same order wherever it is inlined.
+  const double au = n.x() * f.u.x() + n.y() * f.u.y() + n.z() * f.u.z();
+  const double av = n.x() * f.v.x() + n.y() * f.v.y() + n.z() * f.v.z();
+  const double np = n.x() * f.p0.x() + n.y() * f.p0.y() + n.z() * f.p0.z();
+  return {au, av, d - np};
 }
 
 std::unique_ptr<LpSolver> make_native_solver();
