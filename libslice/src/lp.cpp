@@ -12,9 +12,7 @@ namespace slice {
 
 namespace {
 
-// A face normal is unit if | |n|^2 - 1 | is below this. Dimensionless: normals come from sin/cos
-// of angles or from normalisation, both good to a few ulps; this only catches unnormalised input.
-constexpr double kUnitNormalTol = 1e-10;
+using detail::kUnitNormalTol;
 
 std::string lower_case(std::string_view s) {
   std::string out(s);
@@ -164,37 +162,33 @@ std::unique_ptr<LpSolver> make_solver(LpBackend backend) {
 // unbounded region (a block of cones) from making the LP unbounded.
 namespace {
 
-/// Checks the plane, faces and edges and returns the LP's parts.
+/// Checks the plane and the tolerances and returns the LP's parts (the rows are checked by
+/// solve_cut).
 CutLp cut_setup(std::span<const Face> faces, const Plane& plane, std::span<const Plane> edges,
                 const Tolerances& tol) {
   check_unit(plane.normal, plane.d, "cut test", "joint plane", 0);
+  block_scale(0, tol);  // throws for bad tolerances
   CutLp cut;
   cut.faces = faces;
   cut.edges = edges;
   plane_basis(plane.normal, cut.frame.u, cut.frame.v);
   cut.frame.p0 = plane.d * plane.normal;
-  double dmax = 0;
-  for (std::size_t i = 0; i < faces.size(); ++i) {
-    check_unit(faces[i].normal, faces[i].d, "cut test", "face", i);
-    dmax = std::max(dmax, std::abs(faces[i].d));
-  }
-  for (std::size_t k = 0; k < edges.size(); ++k)
-    check_unit(edges[k].normal, edges[k].d, "cut test", "polygon edge", k);
-  cut.s_lower = -(2 * dmax + tol.length_scale);
-  cut.scale = std::max(block_scale(dmax, tol), std::abs(plane.d));
+  cut.length_scale = tol.length_scale;
+  cut.plane_d = plane.d;
   return cut;
 }
 
 /// Fills lp with the cut LP. Every field is set; the rows are overwritten in place (resize keeps
 /// the capacity and, at the same size, constructs nothing).
 void fill_cut_lp(const CutLp& cut, DenseLp& lp) {
+  const detail::CutBounds bounds = detail::cut_bounds(cut, detail::check_cut_rows(cut));
   lp.vars = 3;
   lp.maximise = false;
   lp.c = LpVec(0, 0, 1, 0);
   lp.lower.setConstant(-DenseLp::kInf);
   lp.upper.setConstant(DenseLp::kInf);
-  lp.lower[2] = cut.s_lower;
-  lp.scale = cut.scale;
+  lp.lower[2] = bounds.s_lower;
+  lp.scale = bounds.scale;
   lp.rows.resize(cut.faces.size() + cut.edges.size());
   LpRow* row = lp.rows.data();
   const auto put = [&](const Vec3& n, double d) {
@@ -208,6 +202,17 @@ void fill_cut_lp(const CutLp& cut, DenseLp& lp) {
 }
 
 }  // namespace
+
+double detail::check_cut_rows(const CutLp& cut) {
+  double dmax = 0;
+  for (std::size_t i = 0; i < cut.faces.size(); ++i) {
+    check_unit(cut.faces[i].normal, cut.faces[i].d, "cut test", "face", i);
+    dmax = std::max(dmax, std::abs(cut.faces[i].d));
+  }
+  for (std::size_t k = 0; k < cut.edges.size(); ++k)
+    check_unit(cut.edges[k].normal, cut.edges[k].d, "cut test", "polygon edge", k);
+  return dmax;
+}
 
 PlaneFrame cut_test_lp(std::span<const Face> faces, const Plane& plane,
                        std::span<const Plane> edges, const Tolerances& tol, DenseLp& lp) {

@@ -1,6 +1,8 @@
 #pragma once
 // Private: the backend factories behind make_solver (one .cpp each, so that only lp_ipopt.cpp
 // sees Ipopt and only lp_exact.cpp sees CGAL).
+#include <algorithm>
+#include <cmath>
 #include <memory>
 
 #include "slice/lp.hpp"
@@ -18,6 +20,23 @@ inline CutRow cut_row(const Vec3& n, double d, const PlaneFrame& f) {
   const double av = n.x() * f.v.x() + n.y() * f.v.y() + n.z() * f.v.z();
   const double np = n.x() * f.p0.x() + n.y() * f.p0.y() + n.z() * f.p0.z();
   return {au, av, d - np};
+}
+
+// A face normal is unit if | |n|^2 - 1 | is below this. Dimensionless: normals come from sin/cos
+// of angles or from normalisation, both good to a few ulps; this only catches unnormalised input.
+inline constexpr double kUnitNormalTol = 1e-10;
+
+/// Throws Error naming the first face or polygon edge of `cut` without a finite unit normal or a
+/// finite d; returns max |d| over the faces.
+double check_cut_rows(const CutLp& cut);
+
+/// The cut LP's bound on s and its DenseLp::scale, given max |d| over the faces.
+struct CutBounds {
+  double s_lower, scale;
+};
+inline CutBounds cut_bounds(const CutLp& cut, double dmax) {
+  const double block = dmax > 0 ? dmax : cut.length_scale;
+  return {-(2 * dmax + cut.length_scale), std::max(block, std::abs(cut.plane_d))};
 }
 
 std::unique_ptr<LpSolver> make_native_solver();

@@ -41,8 +41,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
+#include <span>
+#include <type_traits>
 #include <vector>
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -169,49 +173,146 @@ Columns copy_columns(const DenseLp& lp, std::vector<double>& buffer, bool& finit
   return cols;
 }
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#define SLICE_HAVE_AVX2_PATH 1
+/// Whether to use the AVX2 kernels: the CPU has AVX2 and the environment variable SLICE_NO_AVX2
+/// is not set (it selects the portable kernels, which give the same bits: the tests compare).
+bool cpu_has_avx2() {
+  static const bool has = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0 && std::getenv("SLICE_NO_AVX2") == nullptr;
+  }();
+  return has;
+}
+
+/// cut_row for rows [0, count) of an array of Face or Plane (`step` doubles apart, normal then d),
+/// four at a time, into the columns d (stride n) from row `at`; returns how many it wrote (a
+/// multiple of 4; cut_rows does the rest). The same products and sums in the same order as
+/// cut_row, and no fused multiply-add, so the same bits. Clears `ok` if a normal is not unit
+/// (|n|^2 as in check_cut_rows) or a d is not finite; raises dmax to max |d|.
+__attribute__((target("avx2"))) int cut_rows_avx2(const double* src, int step, int count,
+                                                  const PlaneFrame& f, double* d, int n, int at,
+                                                  bool& ok, double& dmax) {
+  const __m256d ux = _mm256_set1_pd(f.u.x()), uy = _mm256_set1_pd(f.u.y()),
+                uz = _mm256_set1_pd(f.u.z());
+  const __m256d vx = _mm256_set1_pd(f.v.x()), vy = _mm256_set1_pd(f.v.y()),
+                vz = _mm256_set1_pd(f.v.z());
+  const __m256d px = _mm256_set1_pd(f.p0.x()), py = _mm256_set1_pd(f.p0.y()),
+                pz = _mm256_set1_pd(f.p0.z());
+  const __m256d minus_one = _mm256_set1_pd(-1), one = _mm256_set1_pd(1);
+  const __m256d unit_tol = _mm256_set1_pd(kUnitNormalTol);
+  const __m256d largest = _mm256_set1_pd(std::numeric_limits<double>::max());
+  const __m256d sign = _mm256_set1_pd(-0.0);
+  __m256d good = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  __m256d dmaxv = _mm256_set1_pd(dmax);
+  int i = 0;
+  for (; i + 4 <= count; i += 4) {
+    // Four (x, y, z, d) rows transposed to x, y, z and d of four rows.
+    const double* r = src + static_cast<std::ptrdiff_t>(i) * step;
+    const __m256d r0 = _mm256_loadu_pd(r), r1 = _mm256_loadu_pd(r + step),
+                  r2 = _mm256_loadu_pd(r + 2 * step), r3 = _mm256_loadu_pd(r + 3 * step);
+    const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+    const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+    const __m256d nx = _mm256_permute2f128_pd(t0, t2, 0x20);
+    const __m256d nz = _mm256_permute2f128_pd(t0, t2, 0x31);
+    const __m256d ny = _mm256_permute2f128_pd(t1, t3, 0x20);
+    const __m256d dd = _mm256_permute2f128_pd(t1, t3, 0x31);
+    const __m256d au = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(nx, ux), _mm256_mul_pd(ny, uy)),
+                                     _mm256_mul_pd(nz, uz));
+    const __m256d av = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(nx, vx), _mm256_mul_pd(ny, vy)),
+                                     _mm256_mul_pd(nz, vz));
+    const __m256d np = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(nx, px), _mm256_mul_pd(ny, py)),
+                                     _mm256_mul_pd(nz, pz));
+    _mm256_storeu_pd(d + at + i, au);
+    _mm256_storeu_pd(d + n + at + i, av);
+    _mm256_storeu_pd(d + 2 * n + at + i, minus_one);
+    _mm256_storeu_pd(d + 3 * n + at + i, _mm256_sub_pd(dd, np));
+    // |(x x + y y) + z z - 1| <= tol and |d| <= DBL_MAX, both false for a NaN.
+    const __m256d n2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(nx, nx), _mm256_mul_pd(ny, ny)),
+                                     _mm256_mul_pd(nz, nz));
+    const __m256d dev = _mm256_andnot_pd(sign, _mm256_sub_pd(n2, one));
+    const __m256d dabs = _mm256_andnot_pd(sign, dd);
+    good = _mm256_and_pd(good, _mm256_cmp_pd(dev, unit_tol, _CMP_LE_OQ));
+    good = _mm256_and_pd(good, _mm256_cmp_pd(dabs, largest, _CMP_LE_OQ));
+    dmaxv = _mm256_max_pd(dmaxv, dabs);
+  }
+  if (_mm256_movemask_pd(good) != 0xF) ok = false;
+  alignas(32) double m[4];
+  _mm256_store_pd(m, dmaxv);
+  dmax = std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
+  return i;
+}
+#endif
+
+/// The rows of `items` (Face or Plane) by cut_row into the columns d (stride n) from row `at`,
+/// checked as check_cut_rows checks them (ok cleared if one is bad) and max |d| into dmax.
+template <class Item>
+void cut_rows(std::span<const Item> items, const PlaneFrame& frame, double* d, int n, int at,
+              bool& ok, double& dmax) {
+  static_assert(std::is_standard_layout_v<Item> && offsetof(Item, d) == 3 * sizeof(double) &&
+                sizeof(Item) % sizeof(double) == 0);
+  const int count = static_cast<int>(items.size());
+  int i = 0;
+#if defined(SLICE_HAVE_AVX2_PATH)
+  if (count >= 4 && cpu_has_avx2())
+    i = cut_rows_avx2(items.front().normal.data(), static_cast<int>(sizeof(Item) / sizeof(double)),
+                      count, frame, d, n, at, ok, dmax);
+#endif
+  for (; i < count; ++i) {
+    const Item& item = items[static_cast<std::size_t>(i)];
+    const CutRow r = cut_row(item.normal, item.d, frame);
+    d[at + i] = r.au;
+    d[n + at + i] = r.av;
+    d[2 * n + at + i] = -1;
+    d[3 * n + at + i] = r.b;
+    const Vec3& v = item.normal;
+    const double n2 = v.x() * v.x() + v.y() * v.y() + v.z() * v.z();
+    if (!(std::abs(n2 - 1) <= kUnitNormalTol) || !std::isfinite(item.d)) ok = false;
+    dmax = std::max(dmax, std::abs(item.d));
+  }
+}
+
 /// The columns of the cut test's LP (x = (u, v, s)): its rows by cut_row, as in every backend,
 /// then s >= s_lower as the row -s <= -s_lower (LP row m + 4), then the pad rows. The faces and
-/// edges were checked (unit normals, finite d) by cut_test.
+/// edges are checked in the same pass; a bad one throws (check_cut_rows names it).
 Columns cut_columns(const CutLp& cut, std::vector<double>& buffer) {
   Columns cols;
   const int m = cols.m = static_cast<int>(cut.faces.size() + cut.edges.size());
   cols.rows = m + 1;
-  cols.scale = cut.scale;
-  cols.lower = LpVec(-kInf, -kInf, cut.s_lower, -kInf);
-  cols.upper = LpVec::Constant(kInf);
   cols.bound_row[0] = m + 4;
   const int n = cols.stride = (m + 4) & ~3;
   buffer.resize(static_cast<std::size_t>(4 * n));  // keeps its capacity
   double* d = buffer.data();
   const PlaneFrame frame = cut.frame;  // a local: the stores below cannot alias it
-  double bmax = std::abs(cut.s_lower), a1max = 0;
+  bool ok = true;
+  double dmax = 0, edge_dmax = 0;
+  cut_rows(cut.faces, frame, d, n, 0, ok, dmax);
+  cut_rows(cut.edges, frame, d, n, static_cast<int>(cut.faces.size()), ok, edge_dmax);
+  if (!ok) check_cut_rows(cut);  // throws, naming the row
+  const CutBounds bounds = cut_bounds(cut, dmax);
+  cols.scale = bounds.scale;
+  cols.lower = LpVec(-kInf, -kInf, bounds.s_lower, -kInf);
+  cols.upper = LpVec::Constant(kInf);
+  double bmax = std::abs(bounds.s_lower), a1max = 0;
   // The crash basis: the row with the largest -b (the tightest at u = v = 0) in each 60 degree
   // sector of the direction of (a_u, a_v), sector k covering [60k, 60k + 60) degrees.
   std::array<double, 6> best;
   best.fill(-kInf);
   std::array<int, 6> arg{-1, -1, -1, -1, -1, -1};
-  const auto put = [&](int i, const Vec3& normal, double dist) {
-    const CutRow r = cut_row(normal, dist, frame);
-    d[i] = r.au;
-    d[n + i] = r.av;
-    d[2 * n + i] = -1;
-    d[3 * n + i] = r.b;
-    bmax = std::max(bmax, std::abs(r.b));
-    a1max = std::max(a1max, std::abs(r.au) + std::abs(r.av));
-    const double t = std::numbers::sqrt3 * std::abs(r.au);  // |tan| >= sqrt 3: 60 to 120 degrees
-    const int k =
-        r.av >= 0 ? (r.av >= t ? 1 : (r.au > 0 ? 0 : 2)) : (-r.av >= t ? 4 : (r.au > 0 ? 5 : 3));
-    if (-r.b > best[static_cast<std::size_t>(k)]) {
-      best[static_cast<std::size_t>(k)] = -r.b;
+  for (int i = 0; i < m; ++i) {
+    const double au = d[i], av = d[n + i], b = d[3 * n + i];
+    bmax = std::max(bmax, std::abs(b));
+    a1max = std::max(a1max, std::abs(au) + std::abs(av));
+    const double t = std::numbers::sqrt3 * std::abs(au);  // |tan| >= sqrt 3: 60 to 120 degrees
+    const int k = av >= 0 ? (av >= t ? 1 : (au > 0 ? 0 : 2)) : (-av >= t ? 4 : (au > 0 ? 5 : 3));
+    if (-b > best[static_cast<std::size_t>(k)]) {
+      best[static_cast<std::size_t>(k)] = -b;
       arg[static_cast<std::size_t>(k)] = i;
     }
-  };
-  int i = 0;
-  for (const Face& f : cut.faces) put(i++, f.normal, f.d);
-  for (const Plane& e : cut.edges) put(i++, e.normal, e.d);
+  }
   d[m] = d[n + m] = 0;
   d[2 * n + m] = -1;
-  d[3 * n + m] = -cut.s_lower;
+  d[3 * n + m] = -bounds.s_lower;
   for (int k = m + 1; k < n; ++k) {
     d[k] = d[n + k] = d[2 * n + k] = 0;
     d[3 * n + k] = kInf;
@@ -285,11 +386,9 @@ void argmax_rows_sse2(const Columns& cols, const double* x, double w, double& be
 #endif
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#define SLICE_HAVE_AVX2_PATH 1
-/// Branch-free: each lane keeps its own maximum and the first row attaining it (a strict >
-/// keeps the earlier row), then the lanes are merged: the largest value, and among equal values
-/// the smallest row. That is the sequential first maximum, as on the SSE2 path; a NaN never wins.
+#if defined(SLICE_HAVE_AVX2_PATH)
+/// As argmax_rows_sse2, four rows per step. (A branch-free form, each lane keeping its own
+/// maximum and row by blends, merged at the end, was measured no faster.)
 template <int N>
 __attribute__((target("avx2"))) void argmax_rows_avx2(const Columns& cols, const double* x,
                                                       double w, double& best, int& q) {
@@ -317,13 +416,6 @@ __attribute__((target("avx2"))) void argmax_rows_avx2(const Columns& cols, const
   }
 }
 
-bool cpu_has_avx2() {
-  static const bool has = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") != 0;
-  }();
-  return has;
-}
 #endif
 
 template <int N>

@@ -1,4 +1,6 @@
 // slice-cut and slice-prune on real files.
+#include <stdlib.h>
+
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
@@ -132,5 +134,25 @@ TEST_CASE("slice-cut and slice-prune refuse bad input with exit 1, writing nothi
     const auto r = run_tool("slice-cut", {test::data_path("cube-3sets.toml").string(), "-o", out});
     CHECK(r.exit_code == 1);
     CHECK_FALSE(test::fs::exists(out));
+  }
+}
+
+TEST_CASE("slice-cut writes the same bytes with the AVX2 and the portable LP kernels",
+          "[tools][cut]") {
+  // SLICE_NO_AVX2 selects the SSE2 kernels; both must choose the same rows and compute the
+  // same doubles, so every cut, face and flag comes out bit for bit the same.
+  test::TempDir tmp;
+  for (const char* scene : {"rock-slope.toml", "table3-persistent.toml"}) {
+    CAPTURE(scene);
+    const auto joints = test::run_pipeline(tmp, scene, test::Stage::joints);
+    const auto out = (tmp / "blocks.h5").string();  // one path: the command line is recorded
+    REQUIRE(run_tool("slice-cut", {joints, "-o", out, "--prune"}).exit_code == 0);
+    const std::string avx2 = test::read_bytes(out);
+    REQUIRE(::setenv("SLICE_NO_AVX2", "1", 1) == 0);
+    const auto portable = run_tool("slice-cut", {joints, "-o", out, "--prune"});
+    ::unsetenv("SLICE_NO_AVX2");
+    REQUIRE(portable.exit_code == 0);
+    CHECK(slice::read_blocks(out).blocks.size() > 100);
+    CHECK(test::read_bytes(out) == avx2);
   }
 }

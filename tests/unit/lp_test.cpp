@@ -4,6 +4,8 @@
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
+#include <string>
 #include <vector>
 
 #include "slice/error.hpp"
@@ -314,6 +316,58 @@ TEST_CASE("a non-unit face normal is bad input", "[lp]") {
   faces[2].normal *= 2;
   CHECK_THROWS_AS(slice::chebyshev_ball(*solver, faces, kTol), slice::Error);
   CHECK_THROWS_AS(slice::cut_test(*solver, faces, {Vec3::UnitX(), 0.5}, {}, kTol), slice::Error);
+}
+
+TEST_CASE("a cut test names the bad face or edge wherever it is, on every backend", "[lp]") {
+  // The native backend checks the rows four at a time (AVX2) and the rest one by one: a bad row
+  // in every position of blocks of 4 to 9 faces, and of a 5-edge polygon, must throw and name it.
+  const auto backend = GENERATE(LpBackend::native, LpBackend::exact, LpBackend::ipopt);
+  CAPTURE(slice::to_string(backend));
+  const auto solver = slice::make_solver(backend);
+  const Plane plane{Vec3(1, 2, 2).normalized(), 0.1};
+  std::vector<Plane> edges;
+  for (int k = 0; k < 5; ++k) {
+    const double phi = 2 * 3.141592653589793 * k / 5;
+    const Vec3 e1 = plane.normal.unitOrthogonal(), e2 = plane.normal.cross(e1);
+    const Vec3 e = std::cos(phi) * e1 + std::sin(phi) * e2;
+    edges.push_back({e, e.dot(plane.d * plane.normal) + 0.3});
+  }
+  const auto message = [&](const std::vector<Face>& faces, const std::vector<Plane>& es) {
+    try {
+      slice::cut_test(*solver, faces, plane, es, kTol);
+    } catch (const slice::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  for (int n = 4; n <= 9; ++n) {
+    std::vector<Face> faces;
+    for (int i = 0; i < n; ++i) {
+      const double t = 2.399963 * i, z = 1 - (2 * i + 1.0) / n;  // spread over the sphere
+      const double r = std::sqrt(1 - z * z);
+      faces.push_back({Vec3(r * std::cos(t), r * std::sin(t), z), 1});
+    }
+    REQUIRE(message(faces, edges) == "no error");
+    for (int i = 0; i < n; ++i) {
+      for (const int kind : {0, 1, 2, 3}) {
+        auto bad = faces;
+        if (kind == 0) bad[i].normal *= 1 + 1e-6;
+        if (kind == 1) bad[i].normal.x() = std::nan("");
+        if (kind == 2) bad[i].d = std::numeric_limits<double>::infinity();
+        if (kind == 3) bad[i].d = std::nan("");
+        CAPTURE(n, i, kind);
+        CHECK_THAT(message(bad, edges),
+                   Catch::Matchers::Contains("face " + std::to_string(i) + " "));
+      }
+    }
+    for (int k = 0; k < 5; ++k) {
+      auto bad = edges;
+      bad[k].normal *= 0.5;
+      CAPTURE(n, k);
+      CHECK_THAT(message(faces, bad),
+                 Catch::Matchers::Contains("polygon edge " + std::to_string(k)));
+    }
+  }
 }
 
 TEST_CASE("batched solves give the single-solve answers", "[lp]") {

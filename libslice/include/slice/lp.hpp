@@ -79,13 +79,14 @@ struct PlaneFrame {
 };
 
 /// The cut test's LP (see cut_test) in its parts: rows (n . U) u + (n . V) v - s <= d - n . p0
-/// for every face and polygon edge (already checked), and s >= s_lower.
+/// for every face and polygon edge, and s >= -(2 max |d_face| + L). The plane is checked; the
+/// faces and edges are checked by solve_cut, in its pass over them.
 struct CutLp {
   std::span<const Face> faces;
   std::span<const Plane> edges;
   PlaneFrame frame;
-  double s_lower = 0;
-  double scale = 1;  // DenseLp::scale
+  double length_scale = 1;  // L: Tolerances::length_scale
+  double plane_d = 0;       // the plane's d (block frame)
 };
 
 /// One LP backend. A solver object keeps state between solves (Ipopt's application, a scratch
@@ -98,9 +99,10 @@ class LpSolver {
   /// Solves independent LPs; out.size() == lps.size(). The default solves them one by one;
   /// a backend may stack them into one problem.
   virtual void solve_batch(std::span<const DenseLp> lps, std::span<LpResult> out);
-  /// Solves the cut test's LP, x = (u, v, s). The default fills scratch() (as cut_test_lp) and
-  /// calls solve; a backend may build its own form straight from the faces (native does: the
-  /// LP's construction was a fifth of a 20-row cut test's time).
+  /// Checks the faces and edges (as cut_test documents) and solves the cut test's LP,
+  /// x = (u, v, s). The default fills scratch() (as cut_test_lp) and calls solve; a backend may
+  /// build its own form straight from the faces (native does: building the LP was a fifth of a
+  /// 20-row cut test's time).
   virtual LpResult solve_cut(const CutLp& cut);
   /// A problem owned by the solver that the problem functions below fill and solve, so that
   /// repeated calls allocate nothing once its capacity has grown.
