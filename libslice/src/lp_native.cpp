@@ -16,6 +16,12 @@
 // "unbounded" and "try a larger box". An infeasibility certificate that leans on an artificial
 // row likewise asks for a larger box.
 //
+// Crash start for the cut test (solve_cut): its rows are (a_u, a_v, -1), and three rows whose
+// (a_u, a_v) contain the origin in their triangle form a dual feasible basis with no artificial
+// row. Picking the row tightest at u = v = 0 in each of three alternate 60-degree sectors
+// guarantees such a triangle (cut_columns); the solver starts there when a fresh LU confirms
+// y >= 0, else from the box. Such a basis proves the LP bounded, so the box is never needed.
+//
 // Accuracy: iterations update B^-1, x and y in product form (N^2 flops per pivot), but every
 // few pivots, after a small pivot, and before any conclusion (optimal, infeasible) they are
 // recomputed from the original rows by a partially pivoted LU of the N x N basis; the optimal
@@ -29,14 +35,20 @@
 // negative are removed by primal simplex steps (a near-flat objective needs them: see
 // kFinalDualTol).
 //
-// Speed: no heap allocation once the solver's column buffer has grown; the pass that copies the
-// rows into it column by column also validates them (coefficients past N are ignored); pricing
-// is a bare arg-max over two rows per SSE2 step; the final check of optimality on fresh numbers
-// re-reads the rows only if the refactorization moved x enough to matter. A 20-row cut test
-// takes ~6.5 pivots and ~5,600 instructions (callgrind). Seidel's algorithm was tried as a
-// fast path proposing the basis: on 20-row cut tests it made 7.5 violations in 3-D, projected
-// 65 rows to 2-D, 21 violations there and 105 rows in 1-D, about 360 row operations against
-// the dual simplex's ~160 (two per SSE2 step), and cost 2.5 times as much; so it is not used.
+// Speed: no heap allocation once the solver's column buffer has grown; the pass that writes the
+// rows into it column by column also validates them (coefficients past N are ignored), and for
+// the cut test it computes the rows straight from the faces, four at a time with AVX2; pricing
+// is a bare arg-max over four rows per AVX2 step (two per SSE2 step without AVX2; the kernels
+// are chosen at run time and give the same bits, SLICE_NO_AVX2=1 forces the portable ones);
+// the final check of optimality on fresh numbers re-reads the rows only if the refactorization
+// moved x enough to matter. A 20-row cut test takes ~1.5 pivots from the crash basis (6.5 from
+// the box) and ~3,200 instructions in all, building the LP included (callgrind; ~6,900 before
+// the crash basis and the direct build).
+// Tried and not used: Seidel's algorithm as a fast path proposing the basis (on 20-row cut tests
+// it made 7.5 violations in 3-D, projected 65 rows to 2-D, 21 violations there and 105 rows in
+// 1-D, about 360 row operations against the dual simplex's ~160, and cost 2.5 times as much);
+// steepest-edge pricing; a branch-free AVX2 arg-max (lanes kept by blends, merged at the end:
+// no faster than the branch, which is rarely taken after the first rows).
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
