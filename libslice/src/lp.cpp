@@ -12,8 +12,6 @@ namespace slice {
 
 namespace {
 
-using detail::kUnitNormalTol;
-
 std::string lower_case(std::string_view s) {
   std::string out(s);
   std::transform(out.begin(), out.end(), out.begin(),
@@ -33,8 +31,7 @@ std::string lower_case(std::string_view s) {
 /// Throws unless n is a finite unit vector and d finite (a NaN or inf in n fails the first test).
 inline void check_unit(const Vec3& n, double d, const char* where, const char* what,
                        std::size_t i) {
-  const double n2 = n.x() * n.x() + n.y() * n.y() + n.z() * n.z();
-  if (!(std::abs(n2 - 1) <= kUnitNormalTol) || !std::isfinite(d)) bad_normal(n, d, where, what, i);
+  if (!detail::unit_row_ok(n, d)) bad_normal(n, d, where, what, i);
 }
 
 /// Checks the faces and returns max |d_i| (0 for no faces).

@@ -26,6 +26,13 @@ inline CutRow cut_row(const Vec3& n, double d, const PlaneFrame& f) {
 // of angles or from normalisation, both good to a few ulps; this only catches unnormalised input.
 inline constexpr double kUnitNormalTol = 1e-10;
 
+/// n is a finite unit vector (| |n|^2 - 1 | <= kUnitNormalTol; a NaN or inf fails) and d finite.
+/// The AVX2 row builder in lp_native.cpp computes the same |n|^2 in the same order.
+inline bool unit_row_ok(const Vec3& n, double d) {
+  const double n2 = n.x() * n.x() + n.y() * n.y() + n.z() * n.z();
+  return std::abs(n2 - 1) <= kUnitNormalTol && std::isfinite(d);
+}
+
 /// Throws Error naming the first face or polygon edge of `cut` without a finite unit normal or a
 /// finite d; returns max |d| over the faces.
 double check_cut_rows(const CutLp& cut);

@@ -277,9 +277,7 @@ void cut_rows(std::span<const Item> items, const PlaneFrame& frame, double* d, i
     d[n + at + i] = r.av;
     d[2 * n + at + i] = -1;
     d[3 * n + at + i] = r.b;
-    const Vec3& v = item.normal;
-    const double n2 = v.x() * v.x() + v.y() * v.y() + v.z() * v.z();
-    if (!(std::abs(n2 - 1) <= kUnitNormalTol) || !std::isfinite(item.d)) ok = false;
+    if (!unit_row_ok(item.normal, item.d)) ok = false;
     dmax = std::max(dmax, std::abs(item.d));
   }
 }
