@@ -1,6 +1,7 @@
 #pragma once
 // Private: the backend factories behind make_solver (one .cpp each, so that only lp_ipopt.cpp
-// sees Ipopt and only lp_exact.cpp sees CGAL).
+// sees Ipopt and only lp_exact.cpp sees CGAL), and the cut LP's rows, checks and bounds that
+// lp.cpp and the native backend's own builder share.
 #include <algorithm>
 #include <cmath>
 #include <memory>
