@@ -126,9 +126,10 @@ struct Columns {
   int lp_row(int k) const { return k < m ? k : bound_row[static_cast<std::size_t>(k - m)]; }
 };
 
-/// Sizes `buffer` for m rows and the finite bounds of `lower` and `upper`, and writes the bound
-/// rows and the pad rows; the caller writes rows 0 .. m-1 (d[j * stride + i], b at j = N) and
-/// folds their max |b| and max |a|_1 into bmax and amax1.
+/// Lays out the columns for m rows and the finite bounds of `lower` and `upper` (only which are
+/// finite matters here; finish_columns writes their values from cols.lower and cols.upper) and
+/// sizes `buffer`; the caller writes rows 0 .. m-1 (d[j * stride + i], b at j = N), folds their
+/// max |b| and max |a|_1 into bmax and amax1, then calls finish_columns.
 template <int N>
 double* start_columns(Columns& cols, std::vector<double>& buffer, int m, const LpVec& lower,
                       const LpVec& upper, double scale) {
@@ -142,23 +143,28 @@ double* start_columns(Columns& cols, std::vector<double>& buffer, int m, const L
     if (upper[j] != kInf) cols.bound_row[static_cast<std::size_t>(nb++)] = m + 2 * j + 1;
   }
   cols.rows = m + nb;
-  const int n = cols.stride = (cols.rows + 3) & ~3;
-  buffer.resize(static_cast<std::size_t>((N + 1) * n));  // keeps its capacity
-  double* d = buffer.data();
-  for (int k = 0; k < nb; ++k) {
-    const int i = m + k, row = cols.bound_row[static_cast<std::size_t>(k)] - m;
+  cols.stride = (cols.rows + 3) & ~3;
+  buffer.resize(static_cast<std::size_t>((N + 1) * cols.stride));  // keeps its capacity
+  cols.data = buffer.data();
+  return buffer.data();
+}
+
+/// Writes the bound rows (from cols.lower and cols.upper) and the pad rows after the m rows.
+template <int N>
+void finish_columns(Columns& cols, double* d) {
+  const int m = cols.m, n = cols.stride;
+  for (int i = m; i < cols.rows; ++i) {
+    const int row = cols.bound_row[static_cast<std::size_t>(i - m)] - m;
     const int j = row / 2;
     const bool up = row % 2 == 1;
     for (int l = 0; l < N; ++l) d[l * n + i] = l == j ? (up ? 1.0 : -1.0) : 0.0;
-    d[N * n + i] = up ? upper[j] : -lower[j];
+    d[N * n + i] = up ? cols.upper[j] : -cols.lower[j];
     cols.bmax = std::max(cols.bmax, std::abs(d[N * n + i]));
   }
   for (int i = cols.rows; i < n; ++i) {
     for (int j = 0; j < N; ++j) d[j * n + i] = 0;
     d[N * n + i] = kInf;
   }
-  cols.data = d;
-  return d;
 }
 
 /// The columns of a DenseLp; finite: no row has a NaN or inf.
@@ -181,6 +187,7 @@ Columns copy_columns(const DenseLp& lp, std::vector<double>& buffer, bool& finit
     cols.amax1 = std::max(cols.amax1, a1);
     cols.bmax = std::max(cols.bmax, std::abs(r.b));
   }
+  finish_columns<N>(cols, d);
   finite = std::isfinite(sum);
   return cols;
 }
@@ -287,12 +294,11 @@ void cut_rows(std::span<const Item> items, const PlaneFrame& frame, double* d, i
 /// edges are checked in the same pass; a bad one throws (check_cut_rows names it).
 Columns cut_columns(const CutLp& cut, std::vector<double>& buffer) {
   Columns cols;
-  const int m = cols.m = static_cast<int>(cut.faces.size() + cut.edges.size());
-  cols.rows = m + 1;
-  cols.bound_row[0] = m + 4;
-  const int n = cols.stride = (m + 4) & ~3;
-  buffer.resize(static_cast<std::size_t>(4 * n));  // keeps its capacity
-  double* d = buffer.data();
+  const int m = static_cast<int>(cut.faces.size() + cut.edges.size());
+  // s has a finite lower bound; its value (from max |d|) is known after the pass below.
+  double* d =
+      start_columns<3>(cols, buffer, m, LpVec(-kInf, -kInf, 0, -kInf), LpVec::Constant(kInf), 1);
+  const int n = cols.stride;
   const PlaneFrame frame = cut.frame;  // a local: the stores below cannot alias it
   bool ok = true;
   double dmax = 0, edge_dmax = 0;
@@ -301,9 +307,8 @@ Columns cut_columns(const CutLp& cut, std::vector<double>& buffer) {
   if (!ok) check_cut_rows(cut);  // throws, naming the row
   const CutBounds bounds = cut_bounds(cut, dmax);
   cols.scale = bounds.scale;
-  cols.lower = LpVec(-kInf, -kInf, bounds.s_lower, -kInf);
-  cols.upper = LpVec::Constant(kInf);
-  double bmax = std::abs(bounds.s_lower), a1max = 0;
+  cols.lower[2] = bounds.s_lower;
+  double bmax = 0, a1max = 0;
   // The crash basis: the row with the largest -b (the tightest at u = v = 0) in each 60 degree
   // sector of the direction of (a_u, a_v), sector k covering [60k, 60k + 60) degrees.
   std::array<double, 6> best;
@@ -319,13 +324,6 @@ Columns cut_columns(const CutLp& cut, std::vector<double>& buffer) {
       best[static_cast<std::size_t>(k)] = -b;
       arg[static_cast<std::size_t>(k)] = i;
     }
-  }
-  d[m] = d[n + m] = 0;
-  d[2 * n + m] = -1;
-  d[3 * n + m] = -bounds.s_lower;
-  for (int k = m + 1; k < n; ++k) {
-    d[k] = d[n + k] = d[2 * n + k] = 0;
-    d[3 * n + k] = kInf;
   }
   // Three directions, one from each of sectors 0, 2, 4 (or 1, 3, 5), are pairwise less than 180
   // degrees apart all round, so the origin is inside their triangle: the multipliers y (y >= 0,
@@ -347,9 +345,9 @@ Columns cut_columns(const CutLp& cut, std::vector<double>& buffer) {
     for (int k = 0; k < 3; ++k)
       cols.crash_rows[static_cast<std::size_t>(k)] = arg[static_cast<std::size_t>(first + 2 * k)];
   }
-  cols.data = d;
   cols.bmax = bmax;
   cols.amax1 = std::max(1.0, a1max + 1);
+  finish_columns<3>(cols, d);  // the bound on s (LP row m + 4) and the pad rows
   return cols;
 }
 
