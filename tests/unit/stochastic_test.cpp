@@ -633,7 +633,9 @@ TEST_CASE("/sets attributes: read back, older files without them, bad names refu
       "shape = \"ellipse\"\naspect = 2\nfit = \"equal-area\"\nrotation = 15\n"));
   const auto file = tmp / "j.h5";
   slice::write_joints(file, js, {"test", "0", "test", "s.toml", "0"});
-  const auto& s = slice::read_joints(file).sets.at(0);
+  // Keep the JointSystem alive: a reference into a temporary's set dangled (ASan found it).
+  const slice::JointSystem back = slice::read_joints(file);
+  const auto& s = back.sets.at(0);
   CHECK(s.intensity == slice::SetIntensity::count);
   CHECK(s.count == 40);
   CHECK(s.fisher_kappa == 12);
