@@ -1,6 +1,5 @@
 // slice-cut: joints.h5 -> blocks.h5 by sequential subdivision (DESIGN section 4).
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -8,13 +7,14 @@
 #include "slice/cut.hpp"
 #include "slice/error.hpp"
 #include "slice/h5io.hpp"
+#include "slice/output.hpp"
 
 int main(int argc, char** argv) {
   tool::Tool t{"slice-cut",
                "Cut the domain of a joints.h5 file into convex blocks, one LP per decision."};
   std::string in, out = "blocks.h5", backend = "native";
   std::string stats_file;
-  bool prune = false, no_index = false;
+  bool prune = false, no_index = false, certify = false;
   t.cli.add_option("joints", in, "joints.h5 from slice-joints")->required();
   t.cli.add_option("-o,--output", out, "output file")->capture_default_str();
   t.cli.add_option("--lp", backend, "LP backend: native | ipopt | exact")->capture_default_str();
@@ -22,16 +22,29 @@ int main(int argc, char** argv) {
   t.cli.add_flag("--no-index", no_index,
                  "test every block against every joint (no bounding spheres or grid)");
   t.cli.add_option("--stats", stats_file, "also write the run's figures as JSON to this file");
+  t.cli.add_flag("--certify", certify,
+                 "decide again with the exact backend every cut, size/shape limit, contact and "
+                 "redundancy decision that lies within the tolerance of its threshold");
+  std::int64_t max_blocks = 0;
+  t.cli
+      .add_option("--max-blocks", max_blocks,
+                  "refuse to make more blocks than this (default: the scene's [options] "
+                  "max_blocks, itself 10,000,000 by default)")
+      ->check(CLI::PositiveNumber);
   return t.run(argc, argv, [&] {
-    tool::check_output_differs(in, out);
+    tool::check_distinct_paths({{"joints", in, false}, {"-o", out}, {"--stats", stats_file}});
     slice::CutOptions opt;
     opt.backend = slice::parse_lp_backend(backend);
     opt.use_index = !no_index;
+    opt.max_blocks = max_blocks;
+    opt.certify = certify;
     const slice::JointSystem js = slice::read_joints(in);
     slice::CutResult r = slice::cut_blocks(js, opt, t.progress());
     const auto& s = r.stats;
     slice::PruneStats ps;
-    if (prune) ps = slice::prune_blocks(r.blocks, opt.backend, t.progress());
+    if (prune) ps = slice::prune_blocks(r.blocks, opt.backend, t.progress(), certify);
+    slice::DecisionCounts d = s.decisions;
+    d += ps.decisions;
     slice::write_blocks(out, r.blocks, t.provenance(in));
     if (!stats_file.empty()) {
       std::size_t faces = 0;
@@ -48,13 +61,14 @@ int main(int argc, char** argv) {
                                         {"lps_redundancy", ps.lps},
                                         {"lps_failed", s.lps.failed + ps.failed},
                                         {"lps_solved", s.lps.total() + ps.lps},
+                                        {"lps_resolved_exactly", d.resolved},
+                                        {"decisions_checked", d.checked},
+                                        {"decisions_changed", d.changed},
                                         {"seconds_cut", s.seconds_cut},
                                         {"seconds_finish", s.seconds_finish},
                                         {"seconds_prune", ps.seconds},
                                         {"faces", faces}};
-      std::ofstream f(stats_file);
-      f << j.dump(2) << '\n';
-      if (!f) throw slice::Error(stats_file, "cannot write the stats file", "check the path");
+      slice::write_text_file(stats_file, j.dump(2) + "\n");
     }
     t.say(std::to_string(s.joints) + " joints (" + std::to_string(s.joints_missing) +
           " cut nothing) -> " + std::to_string(s.blocks) + " blocks (" +
@@ -67,7 +81,11 @@ int main(int argc, char** argv) {
           std::to_string(s.lps.cut_test) + ", extents " + std::to_string(s.lps.extents) +
           ", Chebyshev " + std::to_string(s.lps.chebyshev) + ", contacts " +
           std::to_string(s.lps.contact) + (prune ? ", redundancy " + std::to_string(ps.lps) : "") +
-          ", failed " + std::to_string(s.lps.failed + ps.failed));
+          ", failed " + std::to_string(s.lps.failed + ps.failed) + "; solved again exactly " +
+          std::to_string(d.resolved));
+    t.say(std::string(certify ? "certify: " : "near-threshold: ") + std::to_string(d.checked) +
+          " decisions within " + (certify ? "the tolerance" : "rounding") +
+          " of their threshold decided again exactly, " + std::to_string(d.changed) + " changed");
     t.say("time: cut " + tool::fixed(s.seconds_cut, 3) + " s, finish " +
           tool::fixed(s.seconds_finish, 3) + " s" +
           (prune ? ", prune " + tool::fixed(ps.seconds, 3) + " s" : "") +

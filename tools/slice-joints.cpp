@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   t.cli.add_option("scene", scene_file, "scene file (TOML, see DESIGN section 6)")->required();
   t.cli.add_option("-o,--output", out, "output file")->capture_default_str();
   return t.run(argc, argv, [&] {
-    tool::check_output_differs(scene_file, out);
+    tool::check_distinct_paths({{"scene", scene_file, false}, {"-o", out}});
     const slice::Scene scene = slice::load_scene(scene_file);
     const slice::JointSystem js = slice::generate_joints(scene);
     slice::write_joints(out, js, t.provenance(scene_file));

@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
   t.cli.add_option("--lp", backend, "LP backend for --prune: native | ipopt | exact")
       ->capture_default_str();
   return t.run(argc, argv, [&] {
-    tool::check_output_differs(in, out);
+    tool::check_distinct_paths({{"blocks", in, false}, {"-o", out}});
     slice::BlockSystem bs = slice::read_blocks(in);
     if (!bs.pruned && !prune)
       throw slice::Error(in, "the blocks are not pruned (/blocks attribute pruned is 0)",

@@ -5,10 +5,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <numeric>
+#include <string>
 #include <vector>
 
+#include "slice/decide.hpp"
 #include "slice/error.hpp"
+#include "slice/estimate.hpp"
 #include "slice/polytope.hpp"
 #include "sphere_grid.hpp"
 
@@ -63,9 +67,11 @@ class Cutter {
         opt_(opt),
         progress_(progress),
         tol_(Tolerances::from_scale(js.length_scale, js.options.tolerance)),
-        solver_(make_solver(opt.backend)) {}
+        referee_(opt.backend, tol_, opt.certify),
+        solver_(referee_.solver()) {}
 
   CutResult run() {
+    check_estimate();
     CutResult out;
     out.blocks.joints = js_;
     start_domain();
@@ -79,6 +85,8 @@ class Cutter {
     finish();
     stats_.seconds_finish = seconds_since(t1);
     stats_.joints = js_.joints.size();
+    stats_.decisions = referee_.counts();
+    stats_.lps.failed += stats_.decisions.failed;
     stats_.blocks = blocks_.size();
     out.blocks.blocks = std::move(blocks_);
     out.stats = stats_;
@@ -90,7 +98,8 @@ class Cutter {
   const CutOptions& opt_;
   const Progress& progress_;
   Tolerances tol_;
-  std::unique_ptr<LpSolver> solver_;
+  Referee referee_;
+  LpSolver& solver_;  // the referee's: failed LPs are solved again exactly
   std::vector<Block> blocks_;
   SphereGrid grid_;
   std::size_t grid_built_for_ = 0;
@@ -98,6 +107,30 @@ class Cutter {
   std::vector<std::size_t> candidates_;
   CutStats stats_;
   Vec3 domain_lo_ = Vec3::Zero(), domain_hi_ = Vec3::Zero();
+
+  std::int64_t max_blocks() const {
+    return opt_.max_blocks > 0 ? opt_.max_blocks : js_.options.max_blocks;
+  }
+
+  static std::string max_blocks_fix() {
+    return "raise max_blocks ([options] max_blocks in the scene, or slice-cut --max-blocks) if "
+           "the machine has the memory (about 1.6 kB a block at slice-cut's peak), or cut less: "
+           "a larger spacing, fewer joints, a smaller domain";
+  }
+
+  /// Refuses, before any work, a joint system whose persistent joints alone make more than
+  /// max_blocks blocks.
+  void check_estimate() const {
+    const BlockEstimate e = estimate_blocks(js_);
+    if (e.blocks() <= double(max_blocks())) return;
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "its persistent joints make %s%.0f blocks (1 + %lld planes + %.0f lines + %.0f "
+                  "points inside the domain), more than max_blocks = %lld",
+                  e.sampled ? "about " : "", e.blocks(), static_cast<long long>(e.planes), e.lines,
+                  e.points, static_cast<long long>(max_blocks()));
+    throw Error("/joints", buf, max_blocks_fix());
+  }
 
   bool limits() const {
     return js_.options.min_inscribed_diameter > 0 || js_.options.max_aspect_ratio > 0;
@@ -107,6 +140,8 @@ class Cutter {
     const PolytopeInfo info = analyse_polytope(js_.domain.planes, tol_.geometry);
     if (!info.bounded || !info.has_interior)
       throw Error("/domain", "the domain is empty or unbounded", "regenerate it with slice-joints");
+    if (const std::string why = precision_problem(info.min, info.max, tol_.cut); !why.empty())
+      throw Error("/domain", why, "move the scene nearer the origin or raise its tolerance");
     domain_lo_ = info.min;
     domain_hi_ = info.max;
     Block b;
@@ -124,7 +159,7 @@ class Cutter {
   /// Extents (eq. 17): the bounding sphere, and the origin moved to the box centre so that
   /// the block's numbers stay small. False if an LP failed.
   bool set_sphere(Block& b) {
-    const Extents e = extents(*solver_, b.faces, tol_);
+    const Extents e = extents(solver_, b.faces, tol_);
     stats_.lps.extents += 6;
     if (e.status != LpStatus::optimal) {
       ++stats_.lps.failed;
@@ -197,7 +232,7 @@ class Cutter {
       const Plane plane = to_local(pj.plane, b.origin);
       edges_local.clear();
       for (const Plane& e : pj.edges) edges_local.push_back(to_local(e, b.origin));
-      const CutTest t = cut_test(*solver_, b.faces, plane, edges_local, tol_);
+      const CutTest t = referee_.cut(b.faces, plane, edges_local);
       ++stats_.lps.cut_test;
       ++tested;
       if (t.status != LpStatus::optimal) {
@@ -211,6 +246,12 @@ class Cutter {
       if (split(i, j, plane)) ++cut;
     }
     stats_.pairs_skipped += before - tested;
+    if (std::int64_t(blocks_.size()) > max_blocks())
+      throw Error("/joints",
+                  "the cut passed max_blocks = " + std::to_string(max_blocks()) +
+                      " blocks at joint " + std::to_string(j) + " of " +
+                      std::to_string(js_.joints.size()),
+                  max_blocks_fix());
     if (cut == 0) ++stats_.joints_missing;
     if (joint.kind == JointKind::boundary && pj.edges.empty()) {
       // A persistent boundary joint: every block wholly on the keep side becomes a boundary
@@ -227,7 +268,7 @@ class Cutter {
 
   /// A block the plane does not cut lies on one side of it: its Chebyshev centre tells which.
   void flag_side(Block& b, const Joint& joint, const Plane& plane_local) {
-    const ChebyshevBall c = chebyshev_ball(*solver_, b.faces, tol_);
+    const ChebyshevBall c = chebyshev_ball(solver_, b.faces, tol_);
     ++stats_.lps.chebyshev;
     if (c.status != LpStatus::optimal) {
       ++stats_.lps.failed;
@@ -263,17 +304,17 @@ class Cutter {
 
   /// Size and shape limits (eq. 18): inscribed diameter and bounding / inscribed radius.
   bool within_limits(Block& b) {
-    const ChebyshevBall c = chebyshev_ball(*solver_, b.faces, tol_);
+    const auto& o = js_.options;
+    const ChebyshevBall c =
+        referee_.limit_ball(b.faces, o.min_inscribed_diameter, o.max_aspect_ratio, b.bsphere[3]);
     ++stats_.lps.chebyshev;
     if (c.status != LpStatus::optimal) {
       ++stats_.lps.failed;
       return false;
     }
     b.inradius = c.radius;
-    const auto& o = js_.options;
-    if (o.min_inscribed_diameter > 0 && 2 * c.radius < o.min_inscribed_diameter) return false;
-    if (o.max_aspect_ratio > 0 && b.bsphere[3] > o.max_aspect_ratio * c.radius) return false;
-    return true;
+    return slice::within_limits(c.radius, b.bsphere[3], o.min_inscribed_diameter,
+                                o.max_aspect_ratio);
   }
 
   void finish() {
@@ -281,7 +322,7 @@ class Cutter {
     std::vector<Face> core;
     for (std::size_t i = 0; i < blocks_.size(); ++i) {
       Block& b = blocks_[i];
-      const ChebyshevBall c = chebyshev_ball(*solver_, b.faces, tol_);
+      const ChebyshevBall c = chebyshev_ball(solver_, b.faces, tol_);
       ++stats_.lps.chebyshev;
       SLICE_ASSERT(c.status == LpStatus::optimal && c.radius > 0);
       b.inradius = c.radius;
@@ -311,7 +352,7 @@ class Cutter {
     constexpr double kCoreShrink = 1e-6;
     core = b.faces;
     for (Face& f : core) f.d -= (1 - kCoreShrink) * c.radius;
-    const Extents e = extents(*solver_, core, tol_);
+    const Extents e = extents(solver_, core, tol_);
     stats_.lps.chebyshev += 6;
     if (e.status != LpStatus::optimal) {
       ++stats_.lps.failed;
@@ -364,7 +405,7 @@ class Cutter {
               merged.push_back(g);
             }
           const Plane plane = to_local(js_.joints[j].plane, ba.origin);
-          const CutTest t = cut_test(*solver_, merged, plane, {}, tol_);
+          const CutTest t = referee_.cut(merged, plane, {});
           ++stats_.lps.contact;
           if (t.status == LpStatus::optimal && t.cuts) parent[root(a.block)] = root(c.block);
         }
@@ -385,37 +426,67 @@ class Cutter {
   }
 };
 
+/// A file's block must be a solid: bounded (six extents LPs) with an interior (a Chebyshev
+/// radius of at least a quarter of the geometry tolerance). A crafted or damaged blocks.h5 fails
+/// here, before a wrong pruning is written.
+void check_solid(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol,
+                 std::size_t index) {
+  const std::string where = "/blocks block " + std::to_string(index);
+  const char* fix =
+      "the file is damaged or was not made by slice-cut; regenerate it with slice-cut";
+  const Extents e = extents(solver, faces, tol);
+  if (e.status != LpStatus::optimal)
+    throw Error(where, "its faces do not bound a solid (extents LP " + to_string(e.status) + ")",
+                fix);
+  // The slicer makes no child thinner than the cut tolerance (inscribed diameter >= tol.cut,
+  // radius >= tol / 2); a quarter of the tolerance leaves room for rounding.
+  const double min_radius = 0.25 * tol.geometry;
+  const ChebyshevBall c = chebyshev_ball(solver, faces, tol);
+  if (c.status != LpStatus::optimal || c.radius < min_radius)
+    throw Error(
+        where,
+        "its faces do not bound a solid (" +
+            (c.status == LpStatus::optimal ? "inscribed radius " + std::to_string(c.radius) +
+                                                 " below " + std::to_string(min_radius)
+                                           : "Chebyshev LP " + to_string(c.status)) +
+            ")",
+        fix);
+}
+
 }  // namespace
 
 CutResult cut_blocks(const JointSystem& js, const CutOptions& opt, const Progress& progress) {
   return Cutter(js, opt, progress).run();
 }
 
-PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& progress) {
+PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& progress,
+                        bool certify) {
   const auto t0 = Clock::now();
   PruneStats st;
   const Tolerances tol =
       Tolerances::from_scale(bs.joints.length_scale, bs.joints.options.tolerance);
-  const auto solver = make_solver(backend);
+  Referee referee(backend, tol, certify);
   for (std::size_t i = 0; i < bs.blocks.size(); ++i) {
     auto& faces = bs.blocks[i].faces;
     st.faces_before += faces.size();
     // Against the faces kept so far: of two identical faces, one stays.
     for (std::size_t f = 0; f < faces.size();) {
-      const FaceRedundancy r = face_redundancy(*solver, faces, f, tol);
+      const FaceRedundancy r = referee.redundancy(faces, f);
       ++st.lps;
-      if (r.status == LpStatus::failed) ++st.failed;  // unbounded: the face is needed
       if (r.redundant)
         faces.erase(faces.begin() + std::ptrdiff_t(f));
       else
-        ++f;
+        ++f;  // also when unbounded (the other faces leave the block open there): needed
     }
     st.faces_after += faces.size();
+    check_solid(referee.solver(), faces, tol, i);
     if (progress && (i % 1024 == 0 || i + 1 == bs.blocks.size()))
       progress("prune", i + 1, bs.blocks.size());
   }
   bs.pruned = true;
   bs.geometry.reset();  // faces changed: vertices and loops no longer match
+  st.decisions = referee.counts();
+  st.failed = st.decisions.failed;
   st.seconds = seconds_since(t0);
   return st;
 }

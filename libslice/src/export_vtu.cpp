@@ -19,6 +19,7 @@
 #include "h5/h5.hpp"
 #include "slice/error.hpp"
 #include "slice/orientation.hpp"
+#include "slice/output.hpp"
 #include "slice/polytope.hpp"
 #include "slice/vertices.hpp"
 
@@ -49,7 +50,7 @@ vtkNew<Array> named_array(const char* name, std::size_t rows) {
 
 /// Writes `grid` to out atomically: binary appended data, zlib, 64-bit headers.
 void write_grid(const std::filesystem::path& out, vtkUnstructuredGrid* grid) {
-  h5::PartialFile part(out);
+  PartialFile part(out);
   {
     const QuietVtk quiet;
     vtkNew<vtkXMLUnstructuredGridWriter> w;

@@ -12,6 +12,7 @@
 
 #include "h5/h5.hpp"
 #include "slice/error.hpp"
+#include "slice/output.hpp"
 #include "slice/version.hpp"
 
 namespace slice {
@@ -127,7 +128,7 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
   for (const auto& [c, n] : cluster_size) st.clumps += n >= 2 ? 1 : 0;
   st.bodies = bodies.size();
 
-  h5::PartialFile part(out);
+  PartialFile part(out);
   {
     std::ofstream s(part.path(), std::ios::binary);
     if (!s)

@@ -5,12 +5,15 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "h5/h5.hpp"
 #include "slice/error.hpp"
+#include "slice/output.hpp"
+#include "slice/tolerance.hpp"
 
 namespace slice {
 namespace {
@@ -124,6 +127,9 @@ void check_joints(const Checker& c, const JointSystem& js) {
     c.finite(j.friction_angle_deg, at("/joints/friction_angle", i));
     c.finite(j.cohesion, at("/joints/cohesion", i));
     c.side(j.boundary_side, at("/joints/boundary_side", i));
+    if (j.kind == JointKind::boundary && j.boundary_side == 0)
+      c.fail(at("/joints/boundary_side", i) + " is 0 for a boundary joint; expected -1 (keep " +
+             "below) or 1 (keep above)");
     if (j.polygon_uv.size() == 1 || j.polygon_uv.size() == 2)
       c.fail("/joints/polygon_offset gives joint " + str(i) + " a polygon of " +
              str(j.polygon_uv.size()) + " vertices; expected none (persistent) or at least 3");
@@ -141,6 +147,8 @@ void check_joints(const Checker& c, const JointSystem& js) {
     c.finite(s.cohesion, g + "cohesion");
     c.kind(s.kind, g + "kind");
     c.side(s.boundary_side, g + "boundary_side");
+    if (s.kind == JointKind::boundary && s.boundary_side == 0)
+      c.fail(g + "boundary_side is 0 for a boundary set; expected -1 (keep below) or 1 (above)");
     if (s.joint_count < 0)
       c.fail(g + "joint_count is " + str(s.joint_count) + "; it cannot be negative");
     c.non_negative(s.fisher_kappa, g + "fisher_kappa");
@@ -175,6 +183,50 @@ void check_joints(const Checker& c, const JointSystem& js) {
   c.finite(js.options.min_inscribed_diameter, "/options attribute min_inscribed_diameter");
   c.finite(js.options.max_aspect_ratio, "/options attribute max_aspect_ratio");
   c.finite(js.options.tolerance, "/options attribute tolerance");
+  if (js.options.max_blocks < 1)
+    c.fail("/options attribute max_blocks is " + str(js.options.max_blocks) + "; expected >= 1");
+}
+
+// How far a stored vertex may lie off its faces: slice-vertices keeps every vertex within the
+// geometry tolerance of its block's half-spaces in the block frame; storing it in the global frame
+// rounds each coordinate once more (half an ulp of the largest coordinate).
+double vertex_tolerance(const BlockSystem& bs) {
+  double coord = 0;
+  for (const Vec3& v : bs.geometry->vertices) coord = std::max(coord, v.cwiseAbs().maxCoeff());
+  const Tolerances tol =
+      Tolerances::from_scale(bs.joints.length_scale, bs.joints.options.tolerance);
+  return 2 * tol.geometry + 8 * std::numeric_limits<double>::epsilon() * coord;
+}
+
+// Block b's vertices against its faces (the first face's row is `face_row`): every vertex inside
+// every face, and every vertex of a face's loop on that face's plane. A file whose vertices were
+// edited, or taken from other blocks, fails here instead of exporting a wrong model.
+void check_vertices_on_faces(const Checker& c, const BlockSystem& bs, std::size_t b,
+                             std::size_t face_row, double tol) {
+  const Geometry& g = *bs.geometry;
+  const Block& blk = bs.blocks[b];
+  const auto v0 = static_cast<std::size_t>(g.vertex_offset[b]);
+  const auto v1 = static_cast<std::size_t>(g.vertex_offset[b + 1]);
+  const auto fail = [&](std::size_t v, std::size_t f, double off, const char* how) {
+    c.fail(at("/geometry/vertices", v) + " " + row_text(g.vertices[v].data(), 3) + " lies " +
+           num(off) + " " + how + " face " + str(face_row + f) + " of block " + str(b) +
+           " (tolerance " + num(tol) + "): /geometry does not match /blocks");
+  };
+  for (std::size_t f = 0; f < blk.faces.size(); ++f) {
+    const Face& fc = blk.faces[f];
+    for (std::size_t v = v0; v < v1; ++v) {
+      const double off = fc.normal.dot(g.vertices[v] - blk.origin) - fc.d;
+      if (off > tol) fail(v, f, off, "outside");
+    }
+    const auto lo = static_cast<std::size_t>(g.face_vertex_offset[face_row + f]);
+    const auto hi = static_cast<std::size_t>(g.face_vertex_offset[face_row + f + 1]);
+    for (std::size_t k = lo; k < hi; ++k) {
+      const std::int64_t local = g.face_vertices[k];
+      const std::size_t v = v0 + std::size_t(local);  // in range: checked by the caller
+      const double off = fc.normal.dot(g.vertices[v] - blk.origin) - fc.d;
+      if (std::abs(off) > tol) fail(v, f, std::abs(off), "off the plane of");
+    }
+  }
 }
 
 // /geometry against the blocks it describes: CSR shapes, indices, finite and positive values.
@@ -210,9 +262,11 @@ void check_geometry(const Checker& c, const BlockSystem& bs) {
 
   for (std::size_t v = 0; v < g.vertices.size(); ++v)
     c.finite(g.vertices[v], at("/geometry/vertices", v));
+  const double tol = vertex_tolerance(bs);
   std::size_t face = 0;
   for (std::size_t b = 0; b < n; ++b) {
     const std::int64_t nv = g.vertex_offset[b + 1] - g.vertex_offset[b];
+    const std::size_t first_face = face;
     for (std::size_t f = 0; f < bs.blocks[b].faces.size(); ++f, ++face) {
       const auto lo = static_cast<std::size_t>(g.face_vertex_offset[face]);
       const auto hi = static_cast<std::size_t>(g.face_vertex_offset[face + 1]);
@@ -232,6 +286,7 @@ void check_geometry(const Checker& c, const BlockSystem& bs) {
         c.fail(at("/geometry/face_joint_fraction", face) + " is " + num(fr) +
                "; expected a fraction in [0, 1]");
     }
+    check_vertices_on_faces(c, bs, b, first_face, tol);
     c.finite(g.volume[b], at("/geometry/volume", b));
     if (!(g.volume[b] > 0))
       c.fail(at("/geometry/volume", b) + " is " + num(g.volume[b]) +
@@ -408,6 +463,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
     g.write_attribute("min_inscribed_diameter", js.options.min_inscribed_diameter);
     g.write_attribute("max_aspect_ratio", js.options.max_aspect_ratio);
     g.write_attribute("tolerance", js.options.tolerance);
+    g.write_attribute<std::int64_t>("max_blocks", js.options.max_blocks);
   }
 }
 
@@ -464,7 +520,7 @@ template <class Body>
 void write_file(const fs::path& out, FileKind kind, const Provenance& prov, const JointSystem& js,
                 const Body& body) {
   const std::string name = out.string();
-  h5::PartialFile part(out);
+  PartialFile part(out);
   h5::File f = h5::File::create(part.path(), {name, kWriteFix});
   write_header(f.root(), kind, prov, js);
   write_joint_groups(f.root(), js);
@@ -724,6 +780,9 @@ JointSystem read_joint_groups(const Group& root) {
     js.options.min_inscribed_diameter = g.read_attribute<double>("min_inscribed_diameter");
     js.options.max_aspect_ratio = g.read_attribute<double>("max_aspect_ratio");
     js.options.tolerance = g.read_attribute<double>("tolerance");
+    // Files written before max_blocks existed keep the default.
+    if (g.has_attribute("max_blocks"))
+      js.options.max_blocks = g.read_attribute<std::int64_t>("max_blocks");
   }
   return js;
 }

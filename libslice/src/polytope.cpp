@@ -3,6 +3,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
 
 namespace slice {
 namespace {
@@ -109,6 +112,18 @@ PolytopeInfo analyse_polytope(std::span<const Plane> planes, double tol) {
     info.volume += area * -p.distance(c) / 3;
   }
   return info;
+}
+
+std::string precision_problem(const Vec3& lo, const Vec3& hi, double tol) {
+  const double m = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+  const double step = m * std::numeric_limits<double>::epsilon();
+  if (tol >= step) return {};
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "the domain reaches %.3g from the origin, where doubles step by %.3g, coarser than "
+                "the tolerance %.3g (tolerance x the domain's bounding radius)",
+                m, step, tol);
+  return buf;
 }
 
 }  // namespace slice

@@ -74,8 +74,8 @@ constexpr std::array<std::string_view, 4> kSceneKeys = {"name", "seed", "toleran
 constexpr std::array<std::string_view, 2> kRegionKeys = {"box", "planes"};
 constexpr std::array<std::string_view, 2> kBoxKeys = {"min", "max"};
 constexpr std::array<std::string_view, 2> kPlaneKeys = {"normal", "d"};
-constexpr std::array<std::string_view, 3> kOptionKeys = {"order", "min_inscribed_diameter",
-                                                         "max_aspect_ratio"};
+constexpr std::array<std::string_view, 4> kOptionKeys = {"order", "min_inscribed_diameter",
+                                                         "max_aspect_ratio", "max_blocks"};
 constexpr std::array<std::string_view, 9> kJointKeys = {
     "dip",  "dip_direction",  "point",    "polygon", "polygon_uv",
     "kind", "friction_angle", "cohesion", "keep"};
@@ -394,8 +394,10 @@ std::vector<double> set_planes(const JointSetSpec& s, const std::vector<Vec3>& v
   std::vector<double> c;
   const double k0 = std::ceil((lo + tol - s.offset) / s.spacing) - 1;
   const double k1 = std::floor((hi - tol - s.offset) / s.spacing) + 1;
-  for (double k = k0; k <= k1; k += 1) {
-    const double ck = s.offset + k * s.spacing;
+  // Counted by an integer: past 2^53, k + 1 == k in double and a loop on k never ends.
+  const auto steps = static_cast<std::int64_t>(k1 - k0);
+  for (std::int64_t i = 0; i <= steps; ++i) {
+    const double ck = s.offset + (k0 + double(i)) * s.spacing;
     if (lo + tol < ck && ck < hi - tol) c.push_back(ck);
   }
   return c;
@@ -1085,6 +1087,12 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
              "check that every normal points outward and every d puts the plane on the "
              "domain's face");
   }
+  if (const std::string why =
+          precision_problem(cx.domain_info.info.min, cx.domain_info.info.max, cx.tol());
+      !why.empty())
+    r.fail(*dt, "[domain]: " + why,
+           "move the scene nearer the origin (subtract a local origin from every coordinate) or "
+           "raise [scene] tolerance");
   cx.box = domain_box(scene.domain, cx.domain_info, scene.options.tolerance);
   cx.max_joints = scene.max_joints;
 
@@ -1106,6 +1114,15 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
              t.label("max_aspect_ratio") + " is " + fmt(amax) + "; it must be 0 (none) or >= 1",
              "give 0 for no shape limit, or a ratio >= 1 (bounding radius / inscribed radius)");
     scene.options.max_aspect_ratio = amax;
+    if (const toml::node* n = t.find("max_blocks")) {
+      scene.options.max_blocks = to_integer(r, *n, t.label("max_blocks"));
+      if (scene.options.max_blocks < 1)
+        r.fail(
+            *n,
+            t.label("max_blocks") + " is " + std::to_string(scene.options.max_blocks) + ", below 1",
+            "give the most blocks slice-cut may make, >= 1 (default " +
+                std::to_string(kDefaultMaxBlocks) + ")");
+    }
   }
 
   const auto joints = multi("joints");
@@ -1165,6 +1182,8 @@ JointSystem generate_joints(const Scene& scene) {
                 "give a bounded domain with an interior (load the scene with load_scene)");
   js.length_scale = dom.length_scale;
   const double tol = scene.options.tolerance * dom.length_scale;
+  if (const std::string why = precision_problem(dom.info.min, dom.info.max, tol); !why.empty())
+    throw Error(where, why, "move the scene nearer the origin or raise its tolerance");
   const Vec3 mean = dom.info.interior_point;  // the domain's vertex mean
   const DomainBox box = domain_box(scene.domain, dom, scene.options.tolerance);
 

@@ -248,11 +248,11 @@ TEST_CASE("a failed write leaves the old file untouched and no .partial", "[h5io
     const std::string msg = error_of([&] { slice::write_joints(out, js, prov); });
     CHECK_THAT(msg, Contains("joints.h5: root attribute command_line contains a NUL"));
   }
-  SECTION("failed at the rename: the output is a directory") {
+  SECTION("the output is a directory: refused before writing") {
     const fs::path d = dir / "taken.h5";
     fs::create_directory(d);
     const std::string msg = error_of([&] { slice::write_joints(d, js, sample_provenance()); });
-    CHECK_THAT(msg, Contains("taken.h5: cannot replace it"));
+    CHECK_THAT(msg, Contains("taken.h5: is a directory"));
     CHECK(fs::is_directory(d));
     CHECK_FALSE(fs::exists(dir / "taken.h5.partial"));
   }

@@ -1,15 +1,37 @@
 #include "common/tool.hpp"
 
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <new>
 
 #include "common/progress.hpp"
 #include "slice/error.hpp"
 #include "slice/hash.hpp"
+#include "slice/output.hpp"
 #include "slice/version.hpp"
 
 namespace tool {
+namespace {
+
+// SIGINT (Ctrl-C), SIGTERM (kill, a scheduler's time limit) and SIGHUP (a closed terminal):
+// delete the .partial being written, then die of the same signal, as the caller expects.
+extern "C" void on_signal(int sig) {
+  slice::remove_partial_files();
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+}
+
+}  // namespace
 
 Tool::Tool(std::string name, const std::string& description)
     : cli(description, name), name_(std::move(name)) {
@@ -30,6 +52,7 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     const int code = cli.exit(e);
     return code == 0 ? 0 : 1;
   }
+  install_signal_handlers();
   bar_ = std::make_unique<ProgressBar>(!quiet);
   try {
     body();
@@ -39,9 +62,18 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     bar_->finish();
     std::cerr << name_ << ": error: " << e.what() << '\n';
     return 1;
+  } catch (const std::bad_alloc&) {
+    // Not a bug: the input asks for more than this machine has (the outputs' .partial files are
+    // gone, an existing output is untouched).
+    bar_->finish();
+    std::cerr << name_
+              << ": error: out of memory: the input needs more memory than this machine has; "
+                 "make the job smaller (fewer joints, a smaller domain or a larger spacing, a "
+                 "lower max_blocks) or run it on a machine with more memory\n";
+    return 1;
   } catch (const std::exception& e) {
     bar_->finish();
-    std::cerr << name_ << ": internal error: " << e.what()
+    std::cerr << name_ << ": internal error: " << slice::escape_control(e.what())
               << " (this is a bug in rockslice; please report it with the input)\n";
     return 2;
   }
@@ -58,7 +90,7 @@ slice::Provenance Tool::provenance(const std::string& input) const {
 }
 
 void Tool::say(const std::string& line) const {
-  if (!quiet) std::cerr << name_ << ": " << line << '\n';
+  if (!quiet) std::cerr << name_ << ": " << slice::escape_control(line) << '\n';
 }
 
 std::string fixed(double x, int digits) {
@@ -67,11 +99,53 @@ std::string fixed(double x, int digits) {
   return buf;
 }
 
-void check_output_differs(const std::string& input, const std::string& output) {
+void check_distinct_paths(const std::vector<PathArg>& paths) {
   namespace fs = std::filesystem;
-  std::error_code ec;
-  if (fs::exists(output, ec) && fs::equivalent(input, output, ec))
-    throw slice::Error(output, "the output would overwrite the input", "give a different -o path");
+  // The file a name stands for: its own symlinks followed even when they dangle (an output
+  // that does not exist yet), then the directories' symlinks and "..".
+  const auto resolved = [](const std::string& name) {
+    std::error_code ec;
+    fs::path p = fs::absolute(name);
+    for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
+      const fs::path target = fs::read_symlink(p, ec);
+      if (ec) break;
+      p = target.is_absolute() ? target : p.parent_path() / target;
+    }
+    const fs::path r = fs::weakly_canonical(p, ec);
+    return ec ? p.lexically_normal() : r;
+  };
+  for (const PathArg& p : paths) {
+    if (p.path.empty() || !p.output) continue;
+    // Every output's place is checked before any is written: a tool with two outputs must not
+    // write the first and then fail on the second.
+    const fs::path path(p.path);
+    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec))
+      throw slice::Error(p.path, "the directory " + dir.string() + " does not exist",
+                         "create it or give " + p.option + " another path; nothing was written");
+    if (fs::is_directory(path, ec))
+      throw slice::Error(p.path, "is a directory",
+                         "give " + p.option + " a file name; nothing was written");
+  }
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    for (std::size_t k = i + 1; k < paths.size(); ++k) {
+      const PathArg& a = paths[i];
+      const PathArg& b = paths[k];
+      if (a.path.empty() || b.path.empty() || (!a.output && !b.output)) continue;
+      std::error_code ec;
+      const bool same = resolved(a.path) == resolved(b.path) || fs::equivalent(a.path, b.path, ec);
+      if (!same) continue;
+      const PathArg& out = b.output ? b : a;
+      const PathArg& other = b.output ? a : b;
+      throw slice::Error(out.path,
+                         out.option + " and " + other.option + " (" + other.path +
+                             ") are the same file: " +
+                             (other.output ? "the second output would replace the first"
+                                           : "the output would overwrite the input"),
+                         "give " + out.option + " a different path; nothing was written");
+    }
+  }
 }
 
 }  // namespace tool

@@ -31,7 +31,7 @@ class Tool {
   slice::Progress progress();
   /// Provenance for an output made from `input` (hash of its content).
   slice::Provenance provenance(const std::string& input) const;
-  /// A line for people on stderr (suppressed by -q).
+  /// A line for people on stderr (suppressed by -q); control characters escaped.
   void say(const std::string& line) const;
   const std::string& name() const { return name_; }
 
@@ -44,7 +44,18 @@ class Tool {
 /// x with `digits` decimals ("0.125"), for the figures tools report.
 std::string fixed(double x, int digits);
 
-/// Refuses to write an output over an input (a common slip that would destroy data).
-void check_output_differs(const std::string& input, const std::string& output);
+/// A file a tool reads or writes, named as the user gave it, with the option that named it.
+struct PathArg {
+  std::string option;  // "-o", "--joints", "geometry" (a positional argument)
+  std::string path;    // empty: not given (ignored)
+  bool output = true;
+};
+
+/// Refuses (Error, before anything is read or written) any two of `paths`, one of them an
+/// output, that are the same file: the same name, a name through `..` or a symlink, or a hard
+/// link. Two outputs on one file would leave only the last; an output on an input destroys it.
+/// Also refuses an output whose directory does not exist or that names a directory, so that a
+/// tool with several outputs never writes one and then fails on the next.
+void check_distinct_paths(const std::vector<PathArg>& paths);
 
 }  // namespace tool

@@ -2,7 +2,9 @@
 // Sequential subdivision (Boon et al. 2015, sections 2.1-2.7; DESIGN section 4): joints.h5 in,
 // blocks out. A block is only its half-spaces; every decision is one small LP (lp.hpp).
 #include <cstddef>
+#include <cstdint>
 
+#include "slice/decide.hpp"
 #include "slice/h5io.hpp"
 #include "slice/lp.hpp"
 #include "slice/progress.hpp"
@@ -15,6 +17,12 @@ struct CutOptions {
   /// (eq. 17, Fig. 18). false runs the cut LP on every block for every joint: slower, same
   /// blocks; for tests and the scaling benchmark.
   bool use_index = true;
+  /// The most blocks the cut may make; 0: the joint system's options.max_blocks. Checked up front
+  /// against estimate_blocks (persistent joints) and after every joint (all joints).
+  std::int64_t max_blocks = 0;
+  /// Decide again exactly every cut, limit and contact decision within the tolerance of its
+  /// threshold (decide.hpp); without it, only those within a few hundred rounding errors.
+  bool certify = false;
 };
 
 /// LPs solved, by kind.
@@ -24,7 +32,7 @@ struct LpCounts {
   std::size_t chebyshev = 0;   // eq. 18
   std::size_t redundancy = 0;  // eq. 8
   std::size_t contact = 0;     // construction-face contacts (a cut-test LP on the shared plane)
-  std::size_t failed = 0;      // LPs the backend gave up on (treated as "no cut")
+  std::size_t failed = 0;      // LPs neither the backend nor the exact one solved (expected: 0)
   std::size_t total() const { return cut_test + extents + chebyshev + redundancy + contact; }
 };
 
@@ -37,6 +45,7 @@ struct CutStats {
   std::size_t pairs_skipped = 0;  // joint-block pairs the spheres and the grid ruled out
   std::size_t boundary = 0, removed = 0, clusters = 0;
   LpCounts lps;
+  DecisionCounts decisions;   // LPs solved again and decisions re-decided exactly
   double seconds_cut = 0;     // the sequential subdivision
   double seconds_finish = 0;  // Chebyshev centres, zones, clusters
 };
@@ -54,11 +63,15 @@ CutResult cut_blocks(const JointSystem& js, const CutOptions& opt, const Progres
 struct PruneStats {
   std::size_t faces_before = 0, faces_after = 0;
   std::size_t lps = 0, failed = 0;
+  DecisionCounts decisions;
   double seconds = 0;
 };
 
 /// Drops every face of every block that no longer touches it (eq. 8), one LP per face against
-/// the faces kept so far; sets bs.pruned.
-PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& progress = {});
+/// the faces kept so far; sets bs.pruned. Every block must be a solid (bounded, with an interior):
+/// Error names the first that is not. `certify`: as CutOptions::certify, for the redundancy
+/// decisions.
+PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& progress = {},
+                        bool certify = false);
 
 }  // namespace slice

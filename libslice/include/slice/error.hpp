@@ -4,12 +4,18 @@
 //   std::logic_error   a broken invariant (a bug), via SLICE_ASSERT   -> exit code 2
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace slice {
 
 struct Error : std::runtime_error {
+  /// Control characters in the parts (a newline in a scene key, say) are escaped, so what() is
+  /// always one line.
   Error(const std::string& where, const std::string& what, const std::string& fix = {});
 };
+
+/// `s` with every control character escaped ("\n", "\t", "\x1b", ...): one printable line.
+std::string escape_control(std::string_view s);
 
 [[noreturn]] void assert_fail(const char* expr, const char* file, int line);
 

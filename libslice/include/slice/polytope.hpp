@@ -2,6 +2,7 @@
 // Small exact-enough polytope helpers for regions given by a few half-spaces (domains, zones):
 // vertex enumeration by plane triples. O(n^4); meant for tens of planes, not for blocks.
 #include <span>
+#include <string>
 #include <vector>
 
 #include "slice/geometry.hpp"
@@ -20,6 +21,12 @@ struct PolytopeInfo {
 /// Analyses the region normal . x <= d of `planes` (unit normals). `tol` is an absolute length:
 /// a point within tol of a plane is on it.
 PolytopeInfo analyse_polytope(std::span<const Plane> planes, double tol);
+
+/// Why doubles cannot resolve a region spanning [lo, hi] at the absolute tolerance `tol`, or
+/// "" if they can: at coordinates up to M from the origin a double steps by up to M * 2^-52, so a
+/// tolerance below that step is meaningless (a 50 m box at 1e12 m steps by 2.4e-4 m, far above
+/// its cut tolerance of 4.3e-8 m; joint planes closer than a step cannot even be told apart).
+std::string precision_problem(const Vec3& lo, const Vec3& hi, double tol);
 
 /// Six planes of the box [min, max], outward normals, in the order -x +x -y +y -z +z.
 std::vector<Plane> box_planes(const Vec3& min, const Vec3& max);

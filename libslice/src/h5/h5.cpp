@@ -277,6 +277,30 @@ void write_dataset(hid_t loc, const std::string& name, const std::string& p,
   if (!ds.reset()) fail_h5(ctx, "cannot write " + p);
 }
 
+// Deflate packs at most about 1032:1; no filter pipeline we accept packs tighter.
+constexpr double kMaxCompression = 1100;
+
+// The element count of a dataset, checked against the bytes the file really holds for it before
+// anything is allocated: a crafted or damaged file can claim 4e9 rows in a few kB (a sparse
+// chunked dataset), which would otherwise end in bad_alloc.
+std::size_t checked_size(hid_t ds, hid_t type, int rank, const hsize_t* dims, const std::string& p,
+                         const Context& ctx) {
+  double count = 1;
+  for (int i = 0; i < rank; ++i) count *= double(dims[i]);
+  if (count == 0) return 0;
+  const double bytes = count * double(H5Tget_size(type));
+  Handle dcpl = own(H5Dget_create_plist(ds), Handle::Type::plist, ctx, "cannot read " + p);
+  const int filters = check(H5Pget_nfilters(dcpl.id()), ctx, "cannot read " + p);
+  const double stored = double(H5Dget_storage_size(ds));
+  const double can_hold = filters > 0 ? stored * kMaxCompression : stored;
+  if (bytes > can_hold)
+    fail(ctx, p + " claims shape " + shape_string(rank, dims) + " (" +
+                  std::to_string(static_cast<long long>(bytes)) + " bytes) but the file holds " +
+                  std::to_string(static_cast<long long>(stored)) +
+                  " bytes of it: it is damaged or was not written in full");
+  return std::size_t(count);
+}
+
 template <class T>
 std::vector<T> read_dataset(const Group& g, hid_t loc, const std::string& name, int rank,
                             std::size_t cols) {
@@ -295,7 +319,8 @@ std::vector<T> read_dataset(const Group& g, hid_t loc, const std::string& name, 
   if (nd != rank || (rank == 2 && dims[1] != cols))
     fail(ctx, p + " has shape " + shape_string(nd, dims) + "; expected " +
                   (rank == 1 ? std::string("(n)") : "(n, " + std::to_string(cols) + ")"));
-  std::vector<T> v(rank == 1 ? dims[0] : dims[0] * dims[1]);
+  const std::size_t n = checked_size(ds.id(), type.id(), nd, dims, p, ctx);
+  std::vector<T> v(n);
   if (!v.empty())
     check(H5Dread(ds.id(), Traits<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), ctx,
           "cannot read " + p);
@@ -436,35 +461,6 @@ void File::close() {
   const Context ctx = root_.ctx_;
   root_.handle_.reset();
   if (!file_.reset()) fail_h5(ctx, "cannot close the file (flushing its content failed)");
-}
-
-// --- PartialFile -----------------------------------------------------------------------------
-
-PartialFile::PartialFile(fs::path out)
-    : out_(std::move(out)), partial_(out_.string() + ".partial") {
-  const fs::path dir = out_.has_parent_path() ? out_.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw Error(out_.string(), "the directory " + dir.string() + " does not exist",
-                "create it or choose another output path");
-}
-
-PartialFile::~PartialFile() {
-  if (committed_) return;
-  // Only ever a regular file of ours: never a directory someone put there.
-  std::error_code ec;
-  if (fs::is_regular_file(fs::symlink_status(partial_, ec))) fs::remove(partial_, ec);
-}
-
-void PartialFile::commit() {
-  std::error_code ec;
-  fs::rename(partial_, out_, ec);
-  if (ec)
-    throw Error(out_.string(),
-                "cannot replace it with the finished " + partial_.filename().string() + " (" +
-                    ec.message() + ")",
-                "check that it is not a directory and that its directory is writable");
-  committed_ = true;
 }
 
 }  // namespace slice::h5

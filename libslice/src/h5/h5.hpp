@@ -127,26 +127,4 @@ class File {
   Group root_;  // closed before file_ (members are destroyed in reverse order)
 };
 
-/// Atomic output: the file is written to "<out>.partial" in the same directory and renamed
-/// onto `out` by commit(). If commit() is never reached (an exception), the destructor removes
-/// the .partial, so an existing `out` is left untouched and no half-written file remains.
-class PartialFile {
- public:
-  /// Throws Error if the directory of `out` does not exist.
-  explicit PartialFile(fs::path out);
-  ~PartialFile();
-  PartialFile(const PartialFile&) = delete;
-  PartialFile& operator=(const PartialFile&) = delete;
-
-  const fs::path& path() const { return partial_; }
-  const fs::path& target() const { return out_; }
-  /// Renames the .partial onto `out` (atomic on POSIX). Throws Error on failure.
-  void commit();
-
- private:
-  fs::path out_;
-  fs::path partial_;
-  bool committed_ = false;
-};
-
 }  // namespace slice::h5
