@@ -3,6 +3,7 @@
 #include "slice/estimate.hpp"
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <string>
 
 #include "slice/cut.hpp"
@@ -80,4 +81,18 @@ TEST_CASE("polygon joints past max_blocks stop the cut as it runs", "[unit][esti
   opt.max_blocks = 500;
   CHECK_THROWS_WITH(slice::cut_blocks(js, opt),
                     Catch::Contains("the cut passed max_blocks = 500 blocks at joint"));
+}
+
+TEST_CASE("past the budget a strided sample of the pairs extrapolates the count",
+          "[unit][estimate]") {
+  // 0.0052 m spacing: 74,000 planes, 1.8e9 pairs; the points dominate and follow
+  // volume x |det(n1, n2, n3)| / spacing^3 (each set's planes are evenly spaced).
+  const auto js = table3("0.0052");
+  const slice::BlockEstimate e = slice::estimate_blocks(js);
+  CHECK(e.sampled);
+  slice::Vec3 n[3];
+  for (const auto& j : js.joints) n[j.set] = j.plane.normal;
+  const double points = 1e6 * std::abs(n[0].dot(n[1].cross(n[2]))) / std::pow(0.0052, 3);
+  CHECK_THAT(e.points, Catch::Matchers::WithinRel(points, 0.01));
+  CHECK(e.blocks() > e.points);
 }
