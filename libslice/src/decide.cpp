@@ -68,7 +68,8 @@ struct Referee::Impl {
         cut_band(certify ? t.cut
                          : kDoubtUlps * std::numeric_limits<double>::epsilon() * t.length_scale),
         prune_band(certify ? t.prune : cut_band),
-        relative_band(certify ? 1e-9 : kDoubtUlps * std::numeric_limits<double>::epsilon()) {}
+        relative_band(certify ? t.cut / t.length_scale  // the scene's relative tolerance
+                              : kDoubtUlps * std::numeric_limits<double>::epsilon()) {}
   Tolerances tol;
   DecisionCounts counts;
   FallbackSolver solver;

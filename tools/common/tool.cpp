@@ -19,8 +19,7 @@ namespace {
 // delete the .partial being written, then die of the same signal, as the caller expects.
 extern "C" void on_signal(int sig) {
   slice::remove_partial_files();
-  std::signal(sig, SIG_DFL);
-  std::raise(sig);
+  std::raise(sig);  // SA_RESETHAND restored the default action: the process ends by `sig`
 }
 
 void install_signal_handlers() {
