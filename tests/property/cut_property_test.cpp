@@ -55,7 +55,7 @@ TEST_CASE("invariants hold on the example scenes", "[property][cut]") {
 }
 
 TEST_CASE("invariants hold on random scenes", "[property][cut]") {
-  const auto seed = GENERATE(range(1u, 31u));
+  const auto seed = GENERATE(range(1u, 1u + static_cast<unsigned>(test::scaled_cases(30))));
   CAPTURE(seed);
   const auto js = slice::generate_joints(
       slice::parse_scene(random_scene(seed, Vec3::Zero(), 1.0), "random.toml"));
@@ -64,7 +64,7 @@ TEST_CASE("invariants hold on random scenes", "[property][cut]") {
 }
 
 TEST_CASE("results do not depend on a 1e6 m offset or on units", "[property][cut]") {
-  const auto seed = GENERATE(range(1u, 11u));
+  const auto seed = GENERATE(range(1u, 1u + static_cast<unsigned>(test::scaled_cases(10))));
   CAPTURE(seed);
   const auto base = slice_all(
       slice::generate_joints(slice::parse_scene(random_scene(seed, Vec3::Zero(), 1.0), "a.toml")));
@@ -102,7 +102,7 @@ TEST_CASE("results do not depend on a 1e6 m offset or on units", "[property][cut
 }
 
 TEST_CASE("the grid index changes nothing but the work", "[property][cut]") {
-  const auto seed = GENERATE(range(1u, 11u));
+  const auto seed = GENERATE(range(1u, 1u + static_cast<unsigned>(test::scaled_cases(10))));
   CAPTURE(seed);
   const auto js = slice::generate_joints(
       slice::parse_scene(random_scene(seed, Vec3::Zero(), 1.0), "random.toml"));

@@ -14,6 +14,7 @@
 
 #include "slice/lp.hpp"
 #include "support/lp_cases.hpp"
+#include "support/support.hpp"
 
 namespace {
 
@@ -290,30 +291,32 @@ CaseFn chebyshev_cases(double rel_bound) {
 }  // namespace
 
 // 100,000+ cases per problem: 25,000+ base cases, each also at a 1e6 m offset and scaled by
-// 1e-3 and 1e3 (the four variants count as four cases).
+// 1e-3 and 1e3 (the four variants count as four cases). SLICE_PROPERTY_SCALE (support.hpp)
+// runs a share of them, in whole blocks (cut tests) or whole groups of four variants.
 TEST_CASE("native agrees with exact: cut tests", "[property][lp][cut]") {
-  const long n = 1786L * kCasesPerBlock;  // 100,016 cases on 1786 blocks
+  // 100,016 cases on 1786 blocks.
+  const long n = test::scaled_cases(1786L * kCasesPerBlock, kCasesPerBlock);
   check_report(
       run_cases(n, LpBackend::native, worker_threads(LpBackend::native), cut_cases(kNativeRelErr)),
       n, "native cut tests");
 }
 
 TEST_CASE("native agrees with exact: redundant faces", "[property][lp][prune]") {
-  const long n = 100'000;
+  const long n = test::scaled_cases(100'000, 4);
   check_report(run_cases(n, LpBackend::native, worker_threads(LpBackend::native),
                          redundancy_cases(kNativeRelErr)),
                n, "native face redundancy");
 }
 
 TEST_CASE("native agrees with exact: extents", "[property][lp][extents]") {
-  const long n = 100'000;  // 600,000 LPs
+  const long n = test::scaled_cases(100'000, 4);  // 600,000 LPs
   check_report(run_cases(n, LpBackend::native, worker_threads(LpBackend::native),
                          extents_cases(kNativeRelErr)),
                n, "native extents");
 }
 
 TEST_CASE("native agrees with exact: Chebyshev balls", "[property][lp][chebyshev]") {
-  const long n = 100'000;
+  const long n = test::scaled_cases(100'000, 4);
   check_report(run_cases(n, LpBackend::native, worker_threads(LpBackend::native),
                          chebyshev_cases(kNativeRelErr)),
                n, "native Chebyshev balls");
@@ -322,21 +325,24 @@ TEST_CASE("native agrees with exact: Chebyshev balls", "[property][lp][chebyshev
 // ipopt takes milliseconds per LP: fewer cases, the same generators.
 TEST_CASE("ipopt agrees with exact outside a wider band", "[property][lp][ipopt]") {
   const int threads = worker_threads(LpBackend::ipopt);
-  SECTION("cut tests: 2,016 cases") {
-    const long n = 36L * kCasesPerBlock;
+  SECTION("cut tests") {
+    const long n = test::scaled_cases(36L * kCasesPerBlock, kCasesPerBlock);  // 2,016 cases
     check_report(run_cases(n, LpBackend::ipopt, threads, cut_cases(kIpoptCutRelErr)), n,
                  "ipopt cut tests");
   }
-  SECTION("redundant faces: 2,000 cases") {
-    check_report(run_cases(2000, LpBackend::ipopt, threads, redundancy_cases(kIpoptRelErr)), 2000,
+  SECTION("redundant faces") {
+    const long n = test::scaled_cases(2000, 4);
+    check_report(run_cases(n, LpBackend::ipopt, threads, redundancy_cases(kIpoptRelErr)), n,
                  "ipopt face redundancy");
   }
-  SECTION("extents: 400 cases (2,400 LPs)") {
-    check_report(run_cases(400, LpBackend::ipopt, threads, extents_cases(kIpoptRelErr)), 400,
+  SECTION("extents") {
+    const long n = test::scaled_cases(400, 4);  // 2,400 LPs
+    check_report(run_cases(n, LpBackend::ipopt, threads, extents_cases(kIpoptRelErr)), n,
                  "ipopt extents");
   }
-  SECTION("Chebyshev balls: 2,000 cases") {
-    check_report(run_cases(2000, LpBackend::ipopt, threads, chebyshev_cases(kIpoptRelErr)), 2000,
+  SECTION("Chebyshev balls") {
+    const long n = test::scaled_cases(2000, 4);
+    check_report(run_cases(n, LpBackend::ipopt, threads, chebyshev_cases(kIpoptRelErr)), n,
                  "ipopt Chebyshev balls");
   }
 }

@@ -3,7 +3,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -67,6 +69,23 @@ ToolRun run_tool(const std::string& tool, const std::vector<std::string>& args) 
   r.out = read_bytes(tmp / "out");
   r.err = read_bytes(tmp / "err");
   return r;
+}
+
+double property_scale() {
+  const char* v = std::getenv("SLICE_PROPERTY_SCALE");
+  if (v == nullptr || *v == '\0') return 1.0;
+  char* end = nullptr;
+  const double x = std::strtod(v, &end);
+  if (*end != '\0' || !(x > 0 && x <= 1))
+    throw std::runtime_error(std::string("SLICE_PROPERTY_SCALE is \"") + v +
+                             "\"; give a number in (0, 1], the share of random cases to run");
+  return x;
+}
+
+long scaled_cases(long full, long granule) {
+  const double groups =
+      std::round(static_cast<double>(full) * property_scale() / static_cast<double>(granule));
+  return std::max(1L, static_cast<long>(groups)) * granule;
 }
 
 }  // namespace test

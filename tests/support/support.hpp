@@ -47,4 +47,13 @@ inline std::string shell_quote(const fs::path& p) { return shell_quote(p.string(
 /// Runs any command line through /bin/sh; returns its exit code.
 int run_shell(const std::string& command);
 
+/// The share of the property tests' random cases to run: $SLICE_PROPERTY_SCALE, a number in
+/// (0, 1]; 1 (every case) when unset. The sanitizer run (.ci/sanitize) sets a fraction, so the
+/// same tests make the same assertions on fewer random cases. Any other value throws (the test
+/// fails and says why) rather than silently running all or none.
+double property_scale();
+/// How many of `full` random cases to run: full x property_scale(), rounded to a multiple of
+/// `granule` (cases that come in groups, e.g. one block's 56 LPs), at least one granule.
+long scaled_cases(long full, long granule = 1);
+
 }  // namespace test
