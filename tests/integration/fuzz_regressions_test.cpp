@@ -1,0 +1,52 @@
+// The fuzzers' saved findings (tests/fuzz/regressions/, README there) through the real tools:
+// each input is read (exit 0) or refused with one line (exit 1), never an internal error
+// (exit 2) or a crash. .ci/fuzz replays the same files in the sanitized fuzz targets.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <vector>
+
+#include "support/support.hpp"
+
+namespace {
+
+using test::fs::path;
+
+std::vector<path> saved(const char* target) {
+  const path dir = path(SLICE_TEST_DATA_DIR).parent_path() / "fuzz" / "regressions" / target;
+  std::vector<path> files;
+  for (const auto& e : test::fs::directory_iterator(dir))
+    if (e.is_regular_file()) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+void check_answer(const test::ToolRun& r, const std::string& tool) {
+  INFO(r.err);
+  REQUIRE((r.exit_code == 0 || r.exit_code == 1));
+  if (r.exit_code == 1) {
+    CHECK(r.err.rfind(tool + ": error: ", 0) == 0);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("slice-joints answers every scene the fuzzer saved with exit 0 or 1", "[tools][fuzz]") {
+  const auto files = saved("scene");
+  REQUIRE(!files.empty());
+  for (const auto& f : files) {
+    CAPTURE(f.filename().string());
+    test::TempDir tmp;
+    check_answer(test::run_tool("slice-joints", {f.string(), "-o", (tmp / "j.h5").string()}),
+                 "slice-joints");
+  }
+}
+
+TEST_CASE("slice-info answers every HDF5 file the fuzzer saved with exit 0 or 1", "[tools][fuzz]") {
+  const auto files = saved("h5");
+  REQUIRE(!files.empty());
+  for (const auto& f : files) {
+    CAPTURE(f.filename().string());
+    check_answer(test::run_tool("slice-info", {f.string()}), "slice-info");
+  }
+}
