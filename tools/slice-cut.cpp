@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   t.cli
       .add_option("--max-blocks", max_blocks,
                   "refuse to make more blocks than this (default: the scene's [options] "
-                  "max_blocks, itself 10,000,000 by default)")
+                  "max_blocks, itself 2,000,000 by default)")
       ->check(CLI::PositiveNumber);
   return t.run(argc, argv, [&] {
     tool::check_distinct_paths({{"joints", in, false}, {"-o", out}, {"--stats", stats_file}});

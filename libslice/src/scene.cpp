@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -974,12 +976,109 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
   return s;
 }
 
+// The code point that starts at text[i] (UTF-8), for messages; a malformed sequence gives its
+// first byte, which toml++ then refuses itself.
+std::string code_point_at(std::string_view text, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+  const unsigned char b = byte(i);
+  const std::size_t len = b >= 0xF0 ? 4 : b >= 0xE0 ? 3 : b >= 0xC0 ? 2 : 1;
+  unsigned long cp = len == 1 ? b : b & (0x3Fu >> (len - 1));
+  for (std::size_t k = 1; k < len; ++k) {
+    if (i + k >= text.size() || (byte(i + k) & 0xC0) != 0x80) {
+      cp = b;
+      break;
+    }
+    cp = (cp << 6) | (byte(i + k) & 0x3Fu);
+  }
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "U+%04lX", cp);
+  return buf;
+}
+
+// toml++ 3.3.0 (Debian 12) reaches __builtin_unreachable(), undefined behaviour, when it asks
+// whether U+00A1..U+0499 is whitespace (is_non_ascii_horizontal_whitespace; fixed upstream by
+// marzer/tomlplusplus#305, after 3.3.0). It asks wherever whitespace may stand: anywhere outside
+// strings and comments, and in a multi-line basic string after a backslash. TOML allows no
+// non-ASCII character outside strings and comments, and in the backslash case the character
+// can be written as an escape, so both are refused here, before toml++ sees the text.
+void check_toml_characters(std::string_view text, const Reader& r) {
+  enum class In { code, comment, basic, literal, multi_basic, multi_literal };
+  In in = In::code;
+  std::uint32_t line = 1;
+  const auto at = [&](std::size_t i, std::string_view s) { return text.substr(i, s.size()) == s; };
+  const auto fail = [&](const std::string& what, const std::string& fix) {
+    toml::source_region where{};
+    where.begin.line = line;
+    r.fail(where, what, fix);
+  };
+  const auto ascii_space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const char c = text[i];
+    switch (in) {
+      case In::code:
+        if (c == '#') {
+          in = In::comment;
+        } else if (at(i, "\"\"\"") || at(i, "'''")) {
+          in = c == '"' ? In::multi_basic : In::multi_literal;
+          i += 3;
+          continue;
+        } else if (c == '"' || c == '\'') {
+          in = c == '"' ? In::basic : In::literal;
+        } else if (static_cast<unsigned char>(c) >= 0x80) {
+          fail("character " + code_point_at(text, i) + " outside a string or comment",
+               "TOML allows only ASCII there: remove it, or move it into a comment");
+        }
+        break;
+      case In::comment:
+        if (c == '\n') in = In::code;
+        break;
+      case In::basic:
+      case In::literal:
+        if (c == '\n' || c == (in == In::basic ? '"' : '\'')) {
+          in = In::code;
+        } else if (in == In::basic && c == '\\' && i + 1 < text.size() && text[i + 1] != '\n') {
+          i += 2;  // an escaped character, e.g. \" that does not end the string
+          continue;
+        }
+        break;
+      case In::multi_basic:
+      case In::multi_literal: {
+        const char quote = in == In::multi_basic ? '"' : '\'';
+        if (at(i, std::string(3, quote))) {
+          in = In::code;
+          i += 3;
+          for (int extra = 0; extra < 2 && i < text.size() && text[i] == quote; ++extra) ++i;
+          continue;
+        }
+        if (in == In::multi_basic && c == '\\') {
+          std::size_t k = i + 1;
+          while (k < text.size() && ascii_space(text[k])) {
+            if (text[k] == '\n') ++line;
+            ++k;
+          }
+          if (k < text.size() && static_cast<unsigned char>(text[k]) >= 0x80)
+            fail("character " + code_point_at(text, k) + " right after a backslash in a " +
+                     "multi-line string (toml++ 3.3 cannot read it there)",
+                 "write it as the escape \\u" + code_point_at(text, k).substr(2));
+          i = k > i + 1 ? k : k + 1;  // whitespace removed, or one escaped character skipped
+          continue;
+        }
+        break;
+      }
+    }
+    if (c == '\n') ++line;
+    ++i;
+  }
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
   const std::string file = name.string();
   const Reader r(file);
   toml::table root;
+  check_toml_characters(text, r);
   try {
     root = toml::parse(std::string_view(text), std::string_view(file));
   } catch (const toml::parse_error& e) {

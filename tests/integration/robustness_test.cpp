@@ -266,7 +266,7 @@ TEST_CASE("absurd cuts: refused up front with the estimate and the fix", "[robus
   const std::string joints = (tmp / "j.h5").string(), blocks = (tmp / "b.h5").string();
   REQUIRE(run_tool("slice-joints", {(tmp / "big.toml").string(), "-o", joints}).exit_code == 0);
   check_refused(run_tool("slice-cut", {joints, "-o", blocks}), "slice-cut",
-                {"blocks (1 + 3863 planes", "more than max_blocks = 10000000", "raise max_blocks"});
+                {"blocks (1 + 3863 planes", "more than max_blocks = 2000000", "raise max_blocks"});
   CHECK_FALSE(test::fs::exists(blocks));
 
   // The limit from the scene ([options] max_blocks) and from the command line (--max-blocks).

@@ -106,7 +106,7 @@ TEST_CASE("bad stochastic sets: exit 1, one line, nothing written", "[tools][sto
        {":8", "scanline", "leaves the domain", "'from'"}},
       {"more than max_joints",
        set + "density = 1e6\n" + size,
-       {":7", "more than max_joints = 10000000"}},
+       {":7", "more than max_joints = 1000000"}},
       {"more than a lower max_joints",
        "[scene]\nmax_joints = 50\n" + set + "count = 60\n" + size,
        {":9", "more than max_joints = 50"}},

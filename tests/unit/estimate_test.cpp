@@ -65,7 +65,7 @@ TEST_CASE("absurd cuts are refused up front with the estimate", "[unit][estimate
     (void)slice::cut_blocks(js, {});
     FAIL("cut_blocks accepted ~1e10 blocks");
   } catch (const slice::Error& err) {
-    CHECK_THAT(err.what(), Catch::Contains("more than max_blocks = 10000000"));
+    CHECK_THAT(err.what(), Catch::Contains("more than max_blocks = 2000000"));
     CHECK_THAT(err.what(), Catch::Contains("raise max_blocks"));
   }
   // A lower limit on the command line's behalf refuses the Table 3 scene at 3.7 m (21,108).

@@ -1,6 +1,11 @@
 #include "slice/polytope.hpp"
 
+#include <Eigen/Dense>
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+#include <vector>
 
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
@@ -72,5 +77,79 @@ TEST_CASE("unbounded, empty and flat regions are recognised", "[polytope]") {
     box[1] = {Vec3::UnitX(), 0};
     box[0] = {-Vec3::UnitX(), 0};
     CHECK_FALSE(slice::analyse_polytope(box, 1e-12).has_interior);
+  }
+}
+
+namespace {
+
+// The vertex search analyse_polytope made before it skipped lines that miss the region: every
+// triple of planes solved, every solution tested against every plane. The reference for the
+// test below.
+std::vector<Vec3> vertices_by_every_triple(const std::vector<Plane>& planes, double tol) {
+  std::vector<Vec3> out;
+  const std::size_t n = planes.size();
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j)
+      for (std::size_t k = j + 1; k < n; ++k) {
+        Eigen::Matrix3d a;
+        a.row(0) = planes[i].normal;
+        a.row(1) = planes[j].normal;
+        a.row(2) = planes[k].normal;
+        if (std::abs(a.determinant()) < 1e-12) continue;
+        const Vec3 x = a.partialPivLu().solve(Vec3(planes[i].d, planes[j].d, planes[k].d));
+        if (!std::all_of(planes.begin(), planes.end(),
+                         [&](const Plane& p) { return p.distance(x) <= tol; }))
+          continue;
+        if (std::none_of(out.begin(), out.end(),
+                         [&](const Vec3& v) { return (v - x).norm() <= tol; }))
+          out.push_back(x);
+      }
+  return out;
+}
+
+}  // namespace
+
+// Random regions: tangent planes of a sphere, planes through shared vertices and edges (several
+// planes meeting at a point), duplicated planes and redundant planes, at the origin and 1e6 m
+// away. The skip of lines that miss the region must not lose or move a single vertex.
+TEST_CASE("skipping lines that miss the region finds exactly the vertices of every triple",
+          "[polytope]") {
+  std::mt19937_64 rng(20261123);
+  std::normal_distribution<double> gauss;
+  std::uniform_real_distribution<double> unit(0, 1);
+  auto direction = [&] { return Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized(); };
+  for (int c = 0; c < 300; ++c) {
+    CAPTURE(c);
+    const double r = std::pow(10.0, unit(rng) * 6 - 3);  // 1 mm to 1 km
+    const Vec3 centre = c % 3 == 0 ? Vec3(1e6, -2e6, 3e5) : Vec3::Zero();
+    std::vector<Plane> planes =
+        slice::box_planes(centre - Vec3::Constant(r), centre + Vec3::Constant(r));
+    const int extra = 1 + int(unit(rng) * 60);
+    for (int k = 0; k < extra; ++k) {
+      const Vec3 n = direction();
+      switch (k % 4) {
+        case 0:  // tangent to the inscribed sphere: cuts corners
+          planes.push_back({n, n.dot(centre) + r * (0.9 + 0.2 * unit(rng))});
+          break;
+        case 1: {  // through a corner of the box (a vertex where four or more planes meet)
+          const Vec3 corner = centre + r * Vec3(unit(rng) < 0.5 ? -1 : 1, unit(rng) < 0.5 ? -1 : 1,
+                                                unit(rng) < 0.5 ? -1 : 1);
+          const Vec3 out = (corner - centre).normalized();
+          const Vec3 m = (out + 0.5 * direction()).normalized();
+          planes.push_back({m, m.dot(corner)});
+          break;
+        }
+        case 2:  // a copy of an earlier plane
+          planes.push_back(planes[std::size_t(unit(rng) * double(planes.size()))]);
+          break;
+        default:  // far outside: redundant
+          planes.push_back({n, n.dot(centre) + 3 * r});
+      }
+    }
+    std::shuffle(planes.begin(), planes.end(), rng);
+    const double tol = 1e-9 * r * std::sqrt(3.0);
+    const auto info = slice::analyse_polytope(planes, tol);
+    REQUIRE(info.bounded);
+    CHECK(info.vertices == vertices_by_every_triple(planes, tol));
   }
 }

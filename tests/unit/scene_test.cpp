@@ -486,6 +486,29 @@ TEST_CASE("bad scene: TOML syntax error", "[unit][scene][bad-input]") {
                 {"bad.toml:5", "TOML syntax error", "fix the syntax"});
 }
 
+// toml++ 3.3 reaches undefined behaviour on U+00A1..U+0499 where whitespace may stand (fuzz
+// finding, tests/fuzz/regressions/scene/toml-unreachable-*): refused before it parses.
+TEST_CASE("bad scene: a non-ASCII character outside strings and comments",
+          "[unit][scene][bad-input]") {
+  check_message(error_of(kHead + "[[sets]]\ndip = 45\xC2\xB0\ndip_direction = 90\nspacing = 1\n"),
+                {"bad.toml:4", "character U+00B0 outside a string or comment", "only ASCII"});
+  check_message(error_of("\xCD\x82"), {"bad.toml:1", "U+0342"});
+  check_message(error_of("s = \"\"\"\\\n\xC2\xA7\"\"\"\n"),
+                {"bad.toml:2", "U+00A7 right after a backslash", "\\u00A7"});
+  check_message(error_of("s = \"\"\"x\\\xC3\xA9\"\"\"\n"), {"bad.toml:1", "U+00E9"});
+  // Non-ASCII in strings and comments stays legal, wherever quotes and escapes put it.
+  const std::string fine = kHead +
+                           "# dip in \xC2\xB0\n[[sets]]\nname = \"Kluft \xC3\xA9 \\\" '\"\n" +
+                           "dip = 45 # \xC2\xB0\ndip_direction = 90\nspacing = 1\n";
+  CHECK(slice::parse_scene(fine, "f.toml").sets.at(0).name == "Kluft \xC3\xA9 \" '");
+  const std::string multi = "[scene]\nname = \"\"\"a\\\n  b\xC3\xA9\"\"\"\"\n" + kHead +
+                            "[[sets]]\nname = '''\xC3\xA9''''\ndip = 45\ndip_direction = 90\n" +
+                            "spacing = 1\n";
+  const auto s = slice::parse_scene(multi, "f.toml");
+  CHECK(s.name == "ab\xC3\xA9\"");
+  CHECK(s.sets.at(0).name == "\xC3\xA9'");
+}
+
 TEST_CASE("bad scene: missing file", "[unit][scene][bad-input]") {
   test::TempDir tmp;
   check_message(load_error_of(tmp / "nowhere.toml"), {"nowhere.toml", "not found"});

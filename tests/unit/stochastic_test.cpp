@@ -569,7 +569,7 @@ TEST_CASE("bad stochastic sets name the line, the key and the fix", "[stochastic
   check_message(parse_error(set + "p10 = 1\n" + lognormal),
                 {"bad.toml:3", "missing key 'scanline'", "[[sets]] \"J1\""});
   check_message(parse_error(set + "density = 1e3\n" + lognormal),
-                {"bad.toml:7", "would draw about", "more than max_joints = 10000000",
+                {"bad.toml:7", "would draw about", "more than max_joints = 1000000",
                  "raise max_joints in [scene]"});
   check_message(parse_error("[scene]\nmax_joints = 100\n" + set + "count = 101\n" + lognormal),
                 {"bad.toml:9", "more than max_joints = 100"});

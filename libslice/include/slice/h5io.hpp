@@ -17,6 +17,11 @@ inline constexpr const char* kSchemaName = "rockslice";
 inline constexpr int kSchemaVersion = 1;
 
 enum class FileKind { joints, blocks };
+
+/// The path of the HDF5 file a reader of this process has open, or nullptr. Async-signal-safe
+/// (one atomic load): HDF5 1.10.8 itself crashes with SIGSEGV on some damaged files (found by
+/// fuzzing, tests/fuzz/README.md), and a tool's SIGSEGV handler uses this to say which file.
+const char* hdf5_input_being_read() noexcept;
 const char* to_string(FileKind k);
 
 /// Who made a file, from what: root attributes. No clock time, so reruns are byte-identical.

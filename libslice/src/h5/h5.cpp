@@ -3,10 +3,13 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cstdio>
 #include <system_error>
 #include <type_traits>
 
 #include "slice/error.hpp"
+#include "slice/h5io.hpp"
 
 namespace slice::h5 {
 
@@ -98,7 +101,7 @@ std::string expected_type() {
   if constexpr (std::is_same_v<T, std::string>) {
     return "a string";
   } else if constexpr (std::is_floating_point_v<T>) {
-    return "floats";
+    return "floats of at most 128 bits";
   } else {
     return std::string(std::is_signed_v<T> ? "signed " : "unsigned ") +
            std::to_string(8 * sizeof(T)) + "-bit integers";
@@ -132,7 +135,9 @@ bool converts(hid_t type) {
   if constexpr (std::is_same_v<T, std::string>) {
     return c == H5T_STRING;
   } else if constexpr (std::is_floating_point_v<T>) {
-    return c == H5T_FLOAT;
+    // Up to quadruple precision; a damaged type of 4 GB per value would make H5Dread allocate
+    // a conversion buffer of that many GB (a fuzz finding).
+    return c == H5T_FLOAT && H5Tget_size(type) <= 16;
   } else {
     if (c != H5T_INTEGER) return false;
     const std::size_t size = H5Tget_size(type);
@@ -277,6 +282,13 @@ void write_dataset(hid_t loc, const std::string& name, const std::string& p,
   if (!ds.reset()) fail_h5(ctx, "cannot write " + p);
 }
 
+// A byte count that may exceed every integer type (a damaged shape), e.g. "7.9e+19".
+std::string bytes_string(double bytes) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, bytes < 1e15 ? "%.0f" : "%.2g", bytes);
+  return buf;
+}
+
 // Deflate packs at most about 1032:1; no filter pipeline we accept packs tighter.
 constexpr double kMaxCompression = 1100;
 
@@ -288,15 +300,16 @@ std::size_t checked_size(hid_t ds, hid_t type, int rank, const hsize_t* dims, co
   double count = 1;
   for (int i = 0; i < rank; ++i) count *= double(dims[i]);
   if (count == 0) return 0;
-  const double bytes = count * double(H5Tget_size(type));
+  const std::size_t element = H5Tget_size(type);
+  if (element == 0) fail_h5(ctx, "cannot read " + p);
+  const double bytes = count * double(element);
   Handle dcpl = own(H5Dget_create_plist(ds), Handle::Type::plist, ctx, "cannot read " + p);
   const int filters = check(H5Pget_nfilters(dcpl.id()), ctx, "cannot read " + p);
   const double stored = double(H5Dget_storage_size(ds));
   const double can_hold = filters > 0 ? stored * kMaxCompression : stored;
   if (bytes > can_hold)
-    fail(ctx, p + " claims shape " + shape_string(rank, dims) + " (" +
-                  std::to_string(static_cast<long long>(bytes)) + " bytes) but the file holds " +
-                  std::to_string(static_cast<long long>(stored)) +
+    fail(ctx, p + " claims shape " + shape_string(rank, dims) + " (" + bytes_string(bytes) +
+                  " bytes) but the file holds " + bytes_string(stored) +
                   " bytes of it: it is damaged or was not written in full");
   return std::size_t(count);
 }
@@ -439,8 +452,25 @@ File File::create(const fs::path& path, Context ctx) {
   return File(std::move(f), Group(std::move(root), "/", std::move(ctx)));
 }
 
+namespace {
+std::atomic<const char*> g_reading{nullptr};
+}  // namespace
+
+ReadingMark::ReadingMark(const std::string& path) : path_(new char[path.size() + 1]) {
+  std::copy(path.begin(), path.end(), path_.get());
+  path_[path.size()] = '\0';
+  g_reading.store(path_.get());
+}
+
+ReadingMark::~ReadingMark() {
+  if (!path_) return;
+  const char* mine = path_.get();
+  g_reading.compare_exchange_strong(mine, nullptr);
+}
+
 File File::open(const fs::path& path, Context ctx, bool writable) {
   silence();
+  ReadingMark mark(ctx.file);
   std::error_code ec;
   const auto status = fs::status(path, ec);
   if (!fs::exists(status)) throw Error(ctx.file, "no such file", "check the path");
@@ -454,7 +484,7 @@ File File::open(const fs::path& path, Context ctx, bool writable) {
                  Handle::Type::file, ctx, "cannot open the file");
   Handle root = own(H5Gopen2(f.id(), "/", H5P_DEFAULT), Handle::Type::group, ctx,
                     "cannot open the root group");
-  return File(std::move(f), Group(std::move(root), "/", std::move(ctx)));
+  return File(std::move(f), Group(std::move(root), "/", std::move(ctx)), std::move(mark));
 }
 
 void File::close() {
@@ -464,3 +494,7 @@ void File::close() {
 }
 
 }  // namespace slice::h5
+
+namespace slice {
+const char* hdf5_input_being_read() noexcept { return h5::g_reading.load(); }
+}  // namespace slice

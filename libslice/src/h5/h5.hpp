@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 #include <utility>
@@ -109,6 +110,19 @@ class Group {
 
 /// An open HDF5 file. Closing it explicitly (close()) reports errors of the final flush; the
 /// destructor closes silently.
+// Marks `path` as the HDF5 file being read (slice::hdf5_input_being_read) while alive.
+class ReadingMark {
+ public:
+  ReadingMark() = default;
+  explicit ReadingMark(const std::string& path);
+  ReadingMark(ReadingMark&& other) noexcept : path_(std::move(other.path_)) {}
+  ReadingMark& operator=(ReadingMark&&) = delete;
+  ~ReadingMark();
+
+ private:
+  std::unique_ptr<char[]> path_;
+};
+
 class File {
  public:
   /// Creates (truncates) `path`; messages name `ctx.file`.
@@ -122,7 +136,9 @@ class File {
   void close();
 
  private:
-  File(Handle file, Group root) : file_(std::move(file)), root_(std::move(root)) {}
+  File(Handle file, Group root, ReadingMark mark = {})
+      : mark_(std::move(mark)), file_(std::move(file)), root_(std::move(root)) {}
+  ReadingMark mark_;  // destroyed last: HDF5 reads until the file is closed
   Handle file_;
   Group root_;  // closed before file_ (members are destroyed in reverse order)
 };
