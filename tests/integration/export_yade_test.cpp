@@ -1,6 +1,7 @@
 // slice-export --format yade / yade-potential-blocks: the scripts run in Debian's real YADE
-// (yade -n -x), 100 steps of the settling run, and YADE's bodies match /geometry. YADE must be
-// installed (pipelines/setup does it): a missing yade fails these tests, it does not skip them.
+// (yade -n -x), 20 steps of the settling run (0.6 s a step for the 1000 touching cubes), and
+// YADE's bodies match /geometry. YADE must be installed (pipelines/setup does it): a missing yade
+// fails these tests, it does not skip them.
 #include "slice/export_yade.hpp"
 
 #include <catch2/catch.hpp>
@@ -37,14 +38,14 @@ TEST_CASE("yade is installed (the YADE tests need it: pipelines/setup installs i
   CHECK(test::run_shell("command -v yade >/dev/null 2>&1") == 0);
 }
 
-TEST_CASE("the YADE model runs 100 steps in YADE and matches /geometry", "[tools][export][yade]") {
+TEST_CASE("the YADE model runs 20 steps in YADE and matches /geometry", "[tools][export][yade]") {
   const std::string scene = GENERATE(as<std::string>{}, "cube-3sets.toml", "rock-slope.toml");
   CAPTURE(scene);
   test::TempDir tmp;
   const auto geom = test::run_pipeline(tmp, scene, test::Stage::geometry);
   const std::string model = (tmp / "model.py").string(), report = (tmp / "report.json").string();
   const auto ex =
-      run_tool("slice-export", {geom, "--format", "yade", "--yade-steps", "100", "-o", model});
+      run_tool("slice-export", {geom, "--format", "yade", "--yade-steps", "20", "-o", model});
   INFO(ex.err);
   REQUIRE(ex.exit_code == 0);
   const int code =
@@ -58,7 +59,7 @@ TEST_CASE("the YADE model runs 100 steps in YADE and matches /geometry", "[tools
   REQUIRE(test::fs::exists(report));
   const auto r = nlohmann::json::parse(test::read_bytes(report));
   REQUIRE_FALSE(r.contains("error"));
-  CHECK(r["iterations"] == 100);
+  CHECK(r["iterations"] == 20);
 
   const auto bs = slice::read_blocks(geom);
   const auto& g = *bs.geometry;
@@ -110,7 +111,7 @@ TEST_CASE("the YADE model runs 100 steps in YADE and matches /geometry", "[tools
     } else {
       CHECK(body["clump"] == -1);
     }
-    // Boundary blocks are fixed and did not move in 100 steps.
+    // Boundary blocks are fixed and did not move in 20 steps.
     if (b.flags & slice::kBoundary) {
       ++boundary;
       const auto c = body["clump"].get<std::int64_t>();
