@@ -72,8 +72,10 @@ int main(int argc, char** argv) {
     }
     t.say(std::to_string(s.joints) + " joints (" + std::to_string(s.joints_missing) +
           " cut nothing) -> " + std::to_string(s.blocks) + " blocks (" +
-          std::to_string(s.boundary) + " boundary, " + std::to_string(s.removed) + " removed, " +
-          std::to_string(s.clusters) + " clusters) -> " + out);
+          std::to_string(s.boundary) + " boundary, " +
+          (s.fixed ? std::to_string(s.fixed) + " fixed, " : std::string()) +
+          std::to_string(s.removed) + " removed, " + std::to_string(s.clusters) + " clusters) -> " +
+          out);
     t.say("splits " + std::to_string(s.splits) + ", undone by size/shape limits " +
           std::to_string(s.splits_undone) + "; joint-block pairs skipped by the index " +
           std::to_string(s.pairs_skipped));

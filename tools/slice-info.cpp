@@ -30,7 +30,9 @@ ordered_json describe_joints(const slice::JointSystem& js) {
   j["options"] = {{"order", slice::to_string(js.options.order)},
                   {"min_inscribed_diameter", js.options.min_inscribed_diameter},
                   {"max_aspect_ratio", js.options.max_aspect_ratio},
-                  {"tolerance", js.options.tolerance}};
+                  {"tolerance", js.options.tolerance},
+                  {"max_blocks", js.options.max_blocks},
+                  {"fixed_faces", slice::fixed_faces_string(js.options.fixed_faces)}};
   std::map<std::string, std::size_t> by_kind{{"rock", 0}, {"construction", 0}, {"boundary", 0}};
   std::size_t persistent = 0;
   std::vector<std::size_t> per_set(js.sets.size(), 0);
@@ -106,17 +108,15 @@ int main(int argc, char** argv) {
     } else {
       const slice::BlockSystem bs = slice::read_blocks(file);
       j.update(describe_joints(bs.joints));
-      std::size_t boundary = 0, removed = 0, faces = 0;
+      std::size_t boundary = 0, fixed = 0, removed = 0, faces = 0;
       for (const auto& b : bs.blocks) {
         boundary += (b.flags & slice::kBoundary) ? 1 : 0;
+        fixed += (b.flags & slice::kFixed) ? 1 : 0;
         removed += (b.flags & slice::kRemoved) ? 1 : 0;
         faces += b.faces.size();
       }
-      j["blocks"] = {{"total", bs.blocks.size()},
-                     {"boundary", boundary},
-                     {"removed", removed},
-                     {"faces", faces},
-                     {"pruned", bs.pruned}};
+      j["blocks"] = {{"total", bs.blocks.size()}, {"boundary", boundary}, {"fixed", fixed},
+                     {"removed", removed},        {"faces", faces},       {"pruned", bs.pruned}};
       if (bs.geometry) {  // /geometry, from slice-vertices
         const auto& g = *bs.geometry;
         double volume = 0, removed_volume = 0;

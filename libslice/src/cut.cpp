@@ -340,7 +340,27 @@ class Cutter {
       stats_.boundary += (b.flags & kBoundary) ? 1 : 0;
       stats_.removed += (b.flags & kRemoved) ? 1 : 0;
     }
+    if (js_.options.fixed_faces) mark_fixed();
     find_clusters();
+  }
+
+  // [options] fixed_faces: a block that reaches a named face of the domain's bounding box, to
+  // within the geometry tolerance, is fixed. Its extents (six LPs) only when faces are named.
+  void mark_fixed() {
+    for (Block& b : blocks_) {
+      const Extents e = extents(solver_, b.faces, tol_);
+      stats_.lps.extents += 6;
+      SLICE_ASSERT(e.status == LpStatus::optimal);  // failed LPs were solved again exactly
+      const Vec3 lo = b.origin + e.min, hi = b.origin + e.max;
+      for (int k = 0; k < 6; ++k) {
+        if (!(js_.options.fixed_faces & (1u << k))) continue;
+        const int axis = k / 2;
+        const bool touches = k % 2 == 0 ? lo[axis] <= domain_lo_[axis] + tol_.geometry
+                                        : hi[axis] >= domain_hi_[axis] - tol_.geometry;
+        if (touches) b.flags |= kFixed;
+      }
+      stats_.fixed += (b.flags & kFixed) ? 1 : 0;
+    }
   }
 
   /// The Chebyshev centre is not unique (a box longer than wide has a segment of them) and each
@@ -363,7 +383,9 @@ class Cutter {
 
   // Clusters (DESIGN section 4): blocks touching across a construction face with positive
   // contact area, found at the end: two blocks with opposite faces of the same construction
-  // joint whose other faces leave a region of the shared plane with positive area.
+  // joint whose other faces leave a region of the shared plane with positive area. A removed
+  // block joins no cluster, so nothing kept is joined through one (kept blocks at a slope face
+  // would otherwise chain through the removed air blocks into one clump).
   void find_clusters() {
     std::vector<std::size_t> parent(blocks_.size());
     std::iota(parent.begin(), parent.end(), 0);
@@ -377,6 +399,7 @@ class Cutter {
     std::vector<std::vector<Side>> below(js_.joints.size()), above(js_.joints.size());
     for (std::size_t i = 0; i < blocks_.size(); ++i) {
       const Block& b = blocks_[i];
+      if (b.flags & kRemoved) continue;
       for (std::size_t f = 0; f < b.faces.size(); ++f) {
         const auto j = b.faces[f].joint;
         if (j < 0 || js_.joints[std::size_t(j)].kind != JointKind::construction) continue;

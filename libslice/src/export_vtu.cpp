@@ -90,6 +90,7 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
   auto inradius = named_array<vtkDoubleArray>("inradius", kept);
   auto cluster = named_array<vtkTypeInt64Array>("cluster", kept);
   auto boundary = named_array<vtkUnsignedCharArray>("boundary", kept);
+  auto fixed = named_array<vtkUnsignedCharArray>("fixed", kept);  // boundary or fixed_faces
   auto aspect = named_array<vtkDoubleArray>("aspect_ratio", kept);
 
   std::vector<vtkIdType> ids, faces;
@@ -123,16 +124,18 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
     inradius->SetValue(cell, blk.inradius);
     cluster->SetValue(cell, blk.cluster);
     boundary->SetValue(cell, (blk.flags & kBoundary) ? 1 : 0);
+    fixed->SetValue(cell, (blk.flags & (kBoundary | kFixed)) ? 1 : 0);
     aspect->SetValue(cell, blk.inradius > 0 ? blk.bsphere[3] / blk.inradius : 0.0);
     ++cell;
   }
   grid->SetPoints(points);
-  for (vtkAbstractArray* a : {static_cast<vtkAbstractArray*>(block_id.Get()),
-                              static_cast<vtkAbstractArray*>(volume.Get()),
-                              static_cast<vtkAbstractArray*>(inradius.Get()),
-                              static_cast<vtkAbstractArray*>(cluster.Get()),
-                              static_cast<vtkAbstractArray*>(boundary.Get()),
-                              static_cast<vtkAbstractArray*>(aspect.Get())})
+  for (vtkAbstractArray* a :
+       {static_cast<vtkAbstractArray*>(block_id.Get()),
+        static_cast<vtkAbstractArray*>(volume.Get()),
+        static_cast<vtkAbstractArray*>(inradius.Get()),
+        static_cast<vtkAbstractArray*>(cluster.Get()),
+        static_cast<vtkAbstractArray*>(boundary.Get()), static_cast<vtkAbstractArray*>(fixed.Get()),
+        static_cast<vtkAbstractArray*>(aspect.Get())})
     grid->GetCellData()->AddArray(a);
   grid->GetCellData()->SetActiveScalars("volume");
   write_grid(out, grid);

@@ -117,7 +117,7 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
       ++st.removed;
       continue;
     }
-    bodies.push_back({b, (blk.flags & kBoundary) != 0,
+    bodies.push_back({b, (blk.flags & (kBoundary | kFixed)) != 0,
                       block_friction_deg(bs, b, opt.default_friction_deg), blk.cluster, g.volume[b],
                       g.centroid[b]});
     st.fixed += bodies.back().fixed ? 1 : 0;
@@ -148,7 +148,7 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
         << "# r = PB_ROUNDING x the inscribed radius (d is given unrounded and reduced by r "
            "below),\n"
         << "# R = the bounding radius about the centroid.\n";
-    s << "import math\n"
+    s << "import math\nimport time\n"
       << "import sys\n"
       << "from yade import config, log\n";
     s << "from yade import " << (pb ? "potential_utils" : "polyhedra_utils") << "\n\n";
@@ -211,17 +211,27 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
     // Bodies, clumps, engines.
     if (!pb) {
       s << R"(body_of_block = {}
-for block, fixed, phi, cluster, volume, vertices in BLOCKS:
+started = time.time()
+def progress(what):
+    print('rockslice: %s (%.0f s)' % (what, time.time() - started), flush=True)
+progress('building %d bodies' % len(BLOCKS))
+for i, (block, fixed, phi, cluster, volume, vertices) in enumerate(BLOCKS):
     mat = PolyhedraMat(young=YOUNG, poisson=POISSON, frictionAngle=math.radians(phi),
                        density=DENSITY, label='block-%d' % block)
     O.materials.append(mat)
     grey = 0.35 if fixed else 0.75
     body = polyhedra_utils.polyhedra(mat, v=vertices, fixed=bool(fixed), color=(grey, grey, grey))
     body_of_block[block] = O.bodies.append(body)
+    if (i + 1) % max(1, len(BLOCKS) // 10) == 0:
+        progress('%d of %d bodies' % (i + 1, len(BLOCKS)))
 )";
     } else {
       s << R"(body_of_block = {}
-for block, fixed, phi, cluster, volume, inradius, radius, centroid, planes in BLOCKS:
+started = time.time()
+def progress(what):
+    print('rockslice: %s (%.0f s)' % (what, time.time() - started), flush=True)
+progress('building %d bodies' % len(BLOCKS))
+for i, (block, fixed, phi, cluster, volume, inradius, radius, centroid, planes) in enumerate(BLOCKS):
     mat = FrictMat(young=-1, poisson=-1, frictionAngle=math.radians(phi), density=DENSITY,
                    label='block-%d' % block)
     O.materials.append(mat)
@@ -233,6 +243,8 @@ for block, fixed, phi, cluster, volume, inradius, radius, centroid, planes in BL
         color=[grey, grey, grey])
     body.state.pos = Vector3(centroid) + body.shape.position
     body_of_block[block] = O.bodies.append(body)
+    if (i + 1) % max(1, len(BLOCKS) // 10) == 0:
+        progress('%d of %d bodies' % (i + 1, len(BLOCKS)))
 )";
     }
     s << R"(
@@ -254,6 +266,7 @@ for cluster in sorted(members_of_cluster):
     if cluster in fixed_cluster:
         O.bodies[clump].state.blockedDOFs = 'xyzXYZ'
     clump_of_cluster[cluster] = clump
+progress('%d clumps' % len(clump_of_cluster))
 
 )";
     if (!pb) {
@@ -296,10 +309,16 @@ O.dt = TIMESTEP_FACTOR * math.sqrt(DENSITY * smallest ** (1.0 / 3) / YOUNG)
 O.dt = TIMESTEP_FACTOR * min([math.sqrt(DENSITY * row[4] ** (1.0 / 3) / YOUNG) for row in BLOCKS] + [1.0])
 )";
     }
-    s << R"(
+    s << R"py(
 if STEPS > 0:
+    # Step progress: 20 lines over the run.
+    O.engines = O.engines + [PyRunner(iterPeriod=max(1, STEPS // 20), command=(
+        "print('rockslice: step %d of " + str(STEPS) + " (%.0f s)' % (O.iter + 1, time.time() - "
+        + repr(time.time()) + "), flush=True)"))]
+    progress('running %d steps, dt = %.3g s' % (STEPS, O.dt))
     O.run(STEPS, True)
-)";
+    progress('done')
+)py";
     s.flush();
     if (!s)
       throw Error(out.string(), "cannot write " + part.path().filename().string(),

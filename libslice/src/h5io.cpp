@@ -464,6 +464,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
     g.write_attribute("max_aspect_ratio", js.options.max_aspect_ratio);
     g.write_attribute("tolerance", js.options.tolerance);
     g.write_attribute<std::int64_t>("max_blocks", js.options.max_blocks);
+    g.write_attribute<std::string>("fixed_faces", fixed_faces_string(js.options.fixed_faces));
   }
 }
 
@@ -783,6 +784,14 @@ JointSystem read_joint_groups(const Group& root) {
     // Files written before max_blocks existed keep the default.
     if (g.has_attribute("max_blocks"))
       js.options.max_blocks = g.read_attribute<std::int64_t>("max_blocks");
+    if (g.has_attribute("fixed_faces")) {  // so are files from before fixed_faces: none
+      const auto faces = g.read_attribute<std::string>("fixed_faces");
+      const auto bits = parse_fixed_faces(faces);
+      if (!bits)
+        fail(g, "/options attribute fixed_faces is \"" + faces +
+                    "\"; expected face names -x, +x, -y, +y, -z, +z joined by commas");
+      js.options.fixed_faces = *bits;
+    }
   }
   return js;
 }

@@ -134,12 +134,18 @@ TEST_CASE("the YADE model runs as is: yade -n -x model.py", "[tools][export][yad
   test::TempDir tmp;
   const auto geom = test::run_pipeline(tmp, "rock-slope.toml", test::Stage::geometry);
   const std::string model = (tmp / "model.py").string();
-  REQUIRE(run_tool("slice-export", {geom, "--format", "yade", "-o", model}).exit_code == 0);
+  REQUIRE(run_tool("slice-export", {geom, "--format", "yade", "--yade-steps", "4", "-o", model})
+              .exit_code == 0);
   CHECK(run_yade(model, "", tmp / "yade.log") == 0);
   const std::string log = test::read_bytes(tmp / "yade.log");
   INFO(log);
   CHECK(log.find("Traceback") == std::string::npos);
   CHECK(log.find("Error") == std::string::npos);
+  // It says what it builds and how the run goes (issue 13: a large model was silent for 600 s).
+  for (const char* line :
+       {"rockslice: building ", " bodies (", " clumps (", "rockslice: running 4 steps",
+        "rockslice: step 4 of 4 (", "rockslice: done ("})
+    CHECK_THAT(log, Catch::Contains(line));
 }
 
 namespace {

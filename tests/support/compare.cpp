@@ -23,6 +23,8 @@ void check_same(const slice::JointSystem& a, const slice::JointSystem& b) {
   CHECK(a.options.min_inscribed_diameter == b.options.min_inscribed_diameter);
   CHECK(a.options.max_aspect_ratio == b.options.max_aspect_ratio);
   CHECK(a.options.tolerance == b.options.tolerance);
+  CHECK(a.options.max_blocks == b.options.max_blocks);
+  CHECK(a.options.fixed_faces == b.options.fixed_faces);
   REQUIRE(a.joints.size() == b.joints.size());
   for (std::size_t i = 0; i < a.joints.size(); ++i) {
     CAPTURE(i);

@@ -184,8 +184,10 @@ TEST_CASE("joint kinds: boundary blocks, construction clusters, removal zones", 
       ++boundary;
       CHECK(b.origin.z() < 1);
       CHECK(b.cluster == -1);
+    } else if (b.flags & slice::kRemoved) {
+      CHECK(b.cluster == -1);  // a removed block joins no cluster
     } else {
-      // Every upper block touches its mirror across x = 2 with positive area.
+      // Every kept upper block touches its mirror across x = 2 with positive area.
       CHECK(b.cluster >= 0);
     }
     if (b.flags & slice::kRemoved) {
@@ -196,7 +198,7 @@ TEST_CASE("joint kinds: boundary blocks, construction clusters, removal zones", 
   }
   CHECK(boundary == 1);
   CHECK(removed == 2);
-  CHECK(st.clusters == 4);
+  CHECK(st.clusters == 3);  // the removed pair across x = 2 is no cluster
   test::check_invariants(bs, 20000, 3);
 }
 
@@ -275,6 +277,33 @@ TEST_CASE("a rock joint through a construction cluster splits it in two", "[cut]
   }
 }
 
+TEST_CASE("a removed block joins no cluster, and nothing kept is joined through one",
+          "[cut][kinds]") {
+  // Construction joints x = 1, 2, 3 make a row of four blocks, all one cluster; a zone removes
+  // the second. The first is then alone, and the third and fourth stay a cluster of two.
+  const std::string row = "[domain]\nbox = { min = [0, 0, 0], max = [4, 1, 1] }\n" +
+                          joint(90, 90, {1, 0.5, 0.5}, "kind = \"construction\"\n") +
+                          joint(90, 90, {2, 0.5, 0.5}, "kind = \"construction\"\n") +
+                          joint(90, 90, {3, 0.5, 0.5}, "kind = \"construction\"\n");
+  slice::CutStats st;
+  const auto all = cut(row, true, slice::LpBackend::native, &st);
+  REQUIRE(all.blocks.size() == 4);
+  CHECK(st.clusters == 1);
+  const auto bs = cut(row + "[[zones]]\nbox = { min = [1, 0, 0], max = [2, 1, 1] }\n", true,
+                      slice::LpBackend::native, &st);
+  REQUIRE(bs.blocks.size() == 4);
+  CHECK(st.clusters == 1);
+  for (const auto& b : bs.blocks) {
+    CAPTURE(b.origin.x());
+    const bool removed = b.flags & slice::kRemoved;
+    CHECK(removed == (b.origin.x() > 1 && b.origin.x() < 2));
+    if (b.origin.x() < 2)
+      CHECK(b.cluster == -1);
+    else
+      CHECK(b.cluster == 0);
+  }
+}
+
 TEST_CASE("a zone removes exactly the blocks whose centre is inside", "[cut][kinds]") {
   // cube-3sets-like 4 x 4 x 1 grid of unit blocks; the zone x in (0.9, 2.6), y in (0, 1.2):
   // centres (1.5, 0.5) and (2.5, 0.5) are inside; (0.5, 0.5) and (3.5, 0.5) are not.
@@ -322,4 +351,27 @@ TEST_CASE("the three LP backends give the same blocks on the rock slope", "[cut]
       CHECK_THAT(b.inradius, WithinRel(a.inradius, 1e-6));
     }
   }
+}
+
+TEST_CASE("fixed_faces fixes the blocks that touch the named faces of the domain", "[cut][kinds]") {
+  // A 3 m cube of 27 unit blocks; -z has 9, +x has 9, both 3: 15 fixed blocks.
+  const std::string grid =
+      "[domain]\nbox = { min = [0, 0, 0], max = [3, 3, 3] }\n"
+      "[[sets]]\ndip = 0\ndip_direction = 0\nspacing = 1\n"
+      "[[sets]]\ndip = 90\ndip_direction = 90\nspacing = 1\n"
+      "[[sets]]\ndip = 90\ndip_direction = 0\nspacing = 1\n";
+  slice::CutStats st;
+  const auto bs =
+      cut(grid + "[options]\nfixed_faces = [\"-z\", \"+x\"]\n", true, slice::LpBackend::native, &st);
+  REQUIRE(bs.blocks.size() == 27);
+  CHECK(st.fixed == 15);
+  for (const auto& b : bs.blocks) {
+    CAPTURE(b.origin.transpose());
+    CHECK(bool(b.flags & slice::kFixed) == (b.origin.z() < 1 || b.origin.x() > 2));
+    CHECK_FALSE(b.flags & slice::kBoundary);
+  }
+  CHECK(bs.joints.options.fixed_faces == 0b010010);  // bit k: kBoxFaceNames[k]: +x (1), -z (4)
+  const auto none = cut(grid, true, slice::LpBackend::native, &st);
+  CHECK(st.fixed == 0);
+  for (const auto& b : none.blocks) CHECK_FALSE(b.flags & slice::kFixed);
 }

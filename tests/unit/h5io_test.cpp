@@ -43,7 +43,7 @@ slice::JointSystem sample_joints() {
   js.domain = box({-50.1, -50, 0}, {50, 50.3, 100.7});
   js.domain.planes.push_back(plane(Vec3(1, 2, 3).normalized(), 41.0 / 3));
   js.length_scale = 86.602540378443877;
-  js.options = {slice::JointOrder::by_set, 0.25, 12.5, 1e-10};
+  js.options = {slice::JointOrder::by_set, 0.25, 12.5, 1e-10, 123456, 0b100001};
 
   js.sets.push_back({"J1", 35.5, 122.25, 2.5, 0.1, 31, 1e5, slice::JointKind::rock, 0, 2});
   js.sets.push_back({"tunnel lining", 90, 0, 0, -0.3, 0, 0, slice::JointKind::boundary, -1, 1});

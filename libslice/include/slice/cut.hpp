@@ -44,6 +44,7 @@ struct CutStats {
   std::size_t splits_undone = 0;  // a child broke the size or shape limit: parent kept
   std::size_t pairs_skipped = 0;  // joint-block pairs the spheres and the grid ruled out
   std::size_t boundary = 0, removed = 0, clusters = 0;
+  std::size_t fixed = 0;  // blocks on a face named in [options] fixed_faces
   LpCounts lps;
   DecisionCounts decisions;   // LPs solved again and decisions re-decided exactly
   double seconds_cut = 0;     // the sequential subdivision

@@ -31,7 +31,8 @@ struct Face {
 };
 
 /// Bits of Block::flags (HDF5 /blocks/flags, DESIGN section 7).
-enum BlockFlag : std::uint8_t { kBoundary = 1u << 0, kRemoved = 1u << 1 };
+// kFixed: the block touches a face of the domain named in [options] fixed_faces.
+enum BlockFlag : std::uint8_t { kBoundary = 1u << 0, kRemoved = 1u << 1, kFixed = 1u << 2 };
 
 struct Block {
   Vec3 origin = Vec3::Zero();  // local origin of the faces (its Chebyshev centre once known)

@@ -60,12 +60,19 @@ struct Region {
 /// in seconds instead of running for minutes; bigger jobs raise it.
 inline constexpr std::int64_t kDefaultMaxBlocks = 2'000'000;
 
+/// The faces of the domain's bounding box, in the order of box_planes: -x +x -y +y -z +z.
+inline constexpr std::array<std::string_view, 6> kBoxFaceNames = {"-x", "+x", "-y",
+                                                                  "+y", "-z", "+z"};
+
 struct SliceOptions {
   JointOrder order = JointOrder::as_given;
   double min_inscribed_diameter = 0;            // 0 = no size limit
   double max_aspect_ratio = 0;                  // 0 = no shape limit
   double tolerance = 1e-9;                      // relative to JointSystem::length_scale
   std::int64_t max_blocks = kDefaultMaxBlocks;  // slice-cut refuses to make more blocks
+  // Bit k: blocks that touch face kBoxFaceNames[k] of the domain's bounding box are fixed
+  // (kFixed): boundary conditions without boundary joints ([options] fixed_faces).
+  std::uint8_t fixed_faces = 0;
 };
 
 /// How a [[sets]] entry says how many joints it has (DESIGN section 8).
@@ -185,6 +192,11 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name);
 
 /// Generates every joint of the scene (sets expanded) in introduction order.
 JointSystem generate_joints(const Scene& scene);
+
+/// fixed_faces as written in scene files and joints.h5: "-z,+x" (kBoxFaceNames order); "" for none.
+std::string fixed_faces_string(std::uint8_t faces);
+/// The bits of a fixed_faces string, or nothing if it names something else.
+std::optional<std::uint8_t> parse_fixed_faces(std::string_view text);
 
 /// Puts joints in introduction order: as-given (file order), largest-first (by polygon area,
 /// persistent first), by-set (deterministic joints one set each in file order, then the sets),
