@@ -14,10 +14,12 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <span>
 #include <sstream>
+#include <stdexcept>
 #include <string_view>
 #include <tuple>
 #include <utility>
@@ -99,13 +101,14 @@ constexpr std::array<std::string_view, 2> kBoxKeys = {"min", "max"};
 constexpr std::array<std::string_view, 2> kPlaneKeys = {"normal", "d"};
 constexpr std::array<std::string_view, 5> kOptionKeys = {
     "order", "min_inscribed_diameter", "max_aspect_ratio", "max_blocks", "fixed_faces"};
-constexpr std::array<std::string_view, 9> kJointKeys = {
+constexpr std::array<std::string_view, 10> kJointKeys = {
     "dip",  "dip_direction",  "point",    "polygon", "polygon_uv",
-    "kind", "friction_angle", "cohesion", "keep"};
-constexpr std::array<std::string_view, 21> kSetKeys = {
+    "kind", "friction_angle", "cohesion", "keep",    "stage"};
+constexpr std::array<std::string_view, 22> kSetKeys = {
     "name",           "dip",      "dip_direction", "spacing", "offset", "kind", "keep",
     "friction_angle", "cohesion", "fisher_kappa",  "density", "count",  "p32",  "p10",
-    "scanline",       "size",     "shape",         "aspect",  "sides",  "fit",  "rotation"};
+    "scanline",       "size",     "shape",         "aspect",  "sides",  "fit",  "rotation",
+    "stage"};
 // The intensity keys of a set, in the order of SetIntensity: exactly one is given.
 constexpr std::array<std::string_view, 5> kIntensityKeys = {"spacing", "density", "count", "p32",
                                                             "p10"};
@@ -867,6 +870,21 @@ void read_scanline(const Context& cx, const Tbl& set, const toml::node& node, Jo
   }
 }
 
+// An entry's place in the sequence: `stage` (a whole number >= 1, default 1) and its line.
+EntryPlace read_place(const Reader& r, const toml::table& t, const std::string& ctx,
+                      std::int64_t entry) {
+  EntryPlace p;
+  p.line = t.source().begin.line;
+  p.entry = entry;
+  if (const toml::node* n = t.get("stage")) {
+    p.stage = to_integer(r, *n, quote_key("stage") + " in " + ctx);
+    if (p.stage < 1)
+      r.fail(*n, quote_key("stage") + " in " + ctx + " is " + std::to_string(p.stage) + ", below 1",
+             "give a whole number >= 1: stage 1 is introduced first, then 2, ...");
+  }
+  return p;
+}
+
 JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t index,
                       std::set<std::string>& names) {
   const Reader& r = cx.r;
@@ -1245,13 +1263,20 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
   }
 
   const auto joints = multi("joints");
-  for (std::size_t i = 0; i < joints.size(); ++i)
+  for (std::size_t i = 0; i < joints.size(); ++i) {
     scene.joints.push_back(read_joint(cx, *joints[i], i));
+    scene.joint_places.push_back(read_place(r, *joints[i], "[[joints]] #" + std::to_string(i + 1),
+                                            static_cast<std::int64_t>(i)));
+  }
 
   std::set<std::string> names;
   const auto sets = multi("sets");
-  for (std::size_t i = 0; i < sets.size(); ++i)
+  for (std::size_t i = 0; i < sets.size(); ++i) {
     scene.sets.push_back(read_set(cx, *sets[i], i, names));
+    scene.set_places.push_back(read_place(r, *sets[i],
+                                          "[[sets]] \"" + scene.sets.back().name + "\"",
+                                          static_cast<std::int64_t>(joints.size() + i)));
+  }
 
   const auto zones = multi("zones");
   for (std::size_t i = 0; i < zones.size(); ++i) {
@@ -1308,9 +1333,15 @@ JointSystem generate_joints(const Scene& scene) {
 
   // [[joints]] first, in file order. A joint that misses the domain entirely is kept: the
   // slicer finds that it cuts nothing, and the joint indices stay those of the file.
-  for (const Joint& j : scene.joints) {
-    js.joints.push_back(j);
+  // place[i]: the entry joint i comes from, for the sequence (order_joints).
+  std::vector<EntryPlace> place;
+  const auto place_of = [](const std::vector<EntryPlace>& places, std::size_t i) {
+    return i < places.size() ? places[i] : EntryPlace{};
+  };
+  for (std::size_t i = 0; i < scene.joints.size(); ++i) {
+    js.joints.push_back(scene.joints[i]);
     js.joints.back().set = -1;
+    place.push_back(place_of(scene.joint_places, i));
   }
   for (std::size_t s = 0; s < js.sets.size(); ++s) {
     JointSetSpec& spec = js.sets[s];
@@ -1353,8 +1384,9 @@ JointSystem generate_joints(const Scene& scene) {
     std::vector<const Joint*> mine;
     for (std::size_t i = first; i < js.joints.size(); ++i) mine.push_back(&js.joints[i]);
     measure_set(spec, mine, box);
+    place.resize(js.joints.size(), place_of(scene.set_places, s));
   }
-  order_joints(js.joints, scene.options.order);
+  order_joints(js.joints, scene.options.order, place);
   return js;
 }
 
@@ -1378,45 +1410,67 @@ double polygon_area(const Joint& j) {
   return 0.5 * std::abs(a);
 }
 
+void order_joints(std::vector<Joint>& joints, JointOrder order, std::span<const EntryPlace> place) {
+  if (place.size() != joints.size())
+    throw std::invalid_argument("order_joints: one place per joint expected");
+  const auto key = [&](std::size_t i) {
+    return std::make_tuple(place[i].stage, place[i].line, place[i].entry);
+  };
+  std::vector<std::size_t> idx(joints.size());
+  std::iota(idx.begin(), idx.end(), std::size_t{0});
+  // Stages in order, each stage's entries in file order, a set's joints as generated.
+  std::stable_sort(idx.begin(), idx.end(),
+                   [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  if (order == JointOrder::as_given || order == JointOrder::by_set) {
+    // by-set is the same sequence: every entry (a set or a single joint) in one piece.
+  } else {
+    std::vector<double> area(joints.size());
+    for (std::size_t i = 0; i < joints.size(); ++i) area[i] = polygon_area(joints[i]);
+    const auto larger = [&](std::size_t a, std::size_t b) { return area[a] > area[b]; };
+    std::vector<std::size_t> out;
+    out.reserve(idx.size());
+    for (auto stage = idx.begin(); stage != idx.end();) {
+      const auto end = std::find_if(
+          stage, idx.end(), [&](std::size_t i) { return place[i].stage != place[*stage].stage; });
+      if (order == JointOrder::largest_first) {
+        std::stable_sort(stage, end, larger);
+        out.insert(out.end(), stage, end);
+      } else {  // alternating: one joint of each entry in turn, each entry largest first
+        std::vector<std::vector<std::size_t>> groups;
+        for (auto it = stage; it != end; ++it) {
+          if (groups.empty() || key(groups.back().front()) != key(*it)) groups.emplace_back();
+          groups.back().push_back(*it);
+        }
+        std::size_t longest = 0;
+        for (auto& g : groups) {
+          std::stable_sort(g.begin(), g.end(), larger);
+          longest = std::max(longest, g.size());
+        }
+        for (std::size_t round = 0; round < longest; ++round)
+          for (const auto& g : groups)
+            if (round < g.size()) out.push_back(g[round]);
+      }
+      stage = end;
+    }
+    idx = std::move(out);
+  }
+  std::vector<Joint> sorted;
+  sorted.reserve(joints.size());
+  for (const std::size_t i : idx) sorted.push_back(std::move(joints[i]));
+  joints = std::move(sorted);
+}
+
 void order_joints(std::vector<Joint>& joints, JointOrder order) {
   if (order == JointOrder::as_given) return;
-  std::vector<std::size_t> idx(joints.size());
-  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
-  std::vector<double> area(joints.size());
-  for (std::size_t i = 0; i < joints.size(); ++i) area[i] = polygon_area(joints[i]);
-  auto larger = [&](std::size_t a, std::size_t b) { return area[a] > area[b]; };
-
-  if (order == JointOrder::largest_first) {
-    std::stable_sort(idx.begin(), idx.end(), larger);
-  } else {
-    // Groups: each deterministic joint on its own, in the given order, then the sets by index.
-    std::vector<std::vector<std::size_t>> groups;
-    std::map<std::int32_t, std::vector<std::size_t>> by_set;
-    for (std::size_t i = 0; i < joints.size(); ++i) {
-      if (joints[i].set < 0)
-        groups.push_back({i});
-      else
-        by_set[joints[i].set].push_back(i);
-    }
-    for (auto& [s, g] : by_set) groups.push_back(std::move(g));
-    idx.clear();
-    if (order == JointOrder::by_set) {
-      for (const auto& g : groups) idx.insert(idx.end(), g.begin(), g.end());
-    } else {  // alternating: one joint of each group in turn, each group largest first
-      std::size_t longest = 0;
-      for (auto& g : groups) {
-        std::stable_sort(g.begin(), g.end(), larger);
-        longest = std::max(longest, g.size());
-      }
-      for (std::size_t round = 0; round < longest; ++round)
-        for (const auto& g : groups)
-          if (round < g.size()) idx.push_back(g[round]);
-    }
+  std::vector<EntryPlace> place(joints.size());
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const auto n = static_cast<std::int64_t>(i);
+    if (order == JointOrder::largest_first || joints[i].set < 0)
+      place[i] = {1, 0, n};  // ties in the given order; a single joint is its own entry
+    else
+      place[i] = {1, 1, std::int64_t{joints[i].set}};  // the sets after, by index
   }
-  std::vector<Joint> out;
-  out.reserve(joints.size());
-  for (const std::size_t i : idx) out.push_back(std::move(joints[i]));
-  joints = std::move(out);
+  order_joints(joints, order, place);
 }
 
 }  // namespace slice

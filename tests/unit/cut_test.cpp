@@ -361,8 +361,8 @@ TEST_CASE("fixed_faces fixes the blocks that touch the named faces of the domain
       "[[sets]]\ndip = 90\ndip_direction = 90\nspacing = 1\n"
       "[[sets]]\ndip = 90\ndip_direction = 0\nspacing = 1\n";
   slice::CutStats st;
-  const auto bs =
-      cut(grid + "[options]\nfixed_faces = [\"-z\", \"+x\"]\n", true, slice::LpBackend::native, &st);
+  const auto bs = cut(grid + "[options]\nfixed_faces = [\"-z\", \"+x\"]\n", true,
+                      slice::LpBackend::native, &st);
   REQUIRE(bs.blocks.size() == 27);
   CHECK(st.fixed == 15);
   for (const auto& b : bs.blocks) {
@@ -374,4 +374,28 @@ TEST_CASE("fixed_faces fixes the blocks that touch the named faces of the domain
   const auto none = cut(grid, true, slice::LpBackend::native, &st);
   CHECK(st.fixed == 0);
   for (const auto& b : none.blocks) CHECK_FALSE(b.flags & slice::kFixed);
+}
+
+// Issue 13 item 1: the user sets the sequence. as-given is file order across [[joints]] and
+// [[sets]]; `stage = N` puts an entry after every entry of a lower stage.
+TEST_CASE("the sequence: file order across [[joints]] and [[sets]], then stages", "[cut][order]") {
+  const std::string domain = "[domain]\nbox = { min = [0, 0, 0], max = [10, 10, 10] }\n";
+  const std::string polygon =
+      joint(90, 0, {7.5, 5, 8.75}, "polygon = [[6, 5, 8], [9, 5, 8], [9, 5, 9.5], [6, 5, 9.5]]\n");
+  const std::string set = "[[sets]]\nname = \"H\"\ndip = 0\ndip_direction = 0\nspacing = 5\n";
+  // The polygon first cuts the whole domain, then z = 5 cuts both halves: 4 blocks. The set
+  // first leaves the polygon only the upper half: 3 blocks.
+  for (const char* order : {"as-given", "by-set", "alternating"}) {
+    CAPTURE(order);
+    const std::string opt = std::string("[options]\norder = \"") + order + "\"\n";
+    CHECK(cut(domain + opt + polygon + set).blocks.size() == 4);
+    CHECK(cut(domain + opt + set + polygon).blocks.size() == 3);  // file order, sets first
+    // stage = 2 puts the polygon after the set wherever it stands.
+    CHECK(cut(domain + opt + polygon + "stage = 2\n" + set).blocks.size() == 3);
+    CHECK(cut(domain + opt + set + "stage = 2\n" + polygon).blocks.size() == 4);
+  }
+  // largest-first orders within a stage: stage 1 (the polygon) before stage 2 (the set).
+  const std::string largest = "[options]\norder = \"largest-first\"\n";
+  CHECK(cut(domain + largest + polygon + set).blocks.size() == 3);
+  CHECK(cut(domain + largest + polygon + set + "stage = 2\n").blocks.size() == 4);
 }

@@ -873,3 +873,13 @@ TEST_CASE("fixed_faces: the faces named, each once", "[unit][scene]") {
   check_message(error_of(kHead + "[options]\nfixed_faces = [\"-z\", \"-z\"]\n"),
                 {"bad.toml:4", "names \"-z\" twice"});
 }
+
+TEST_CASE("bad scene: stage is a whole number >= 1", "[unit][scene][bad-input]") {
+  const std::string set = "[[sets]]\nname = \"J1\"\ndip = 0\ndip_direction = 0\nspacing = 1\n";
+  check_message(error_of(kHead + set + "stage = 0\n"),
+                {"bad.toml:8", "'stage' in [[sets]] \"J1\" is 0, below 1", "stage 1"});
+  check_message(error_of(kHead + set + "stage = 1.5\n"), {"bad.toml:8", "'stage'", "whole number"});
+  check_message(error_of(kHead + "[[joints]]\ndip = 0\ndip_direction = 0\npoint = [1, 1, 1]\n" +
+                         "stage = \"2\"\n"),
+                {"bad.toml:7", "'stage' in [[joints]] #1"});
+}

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -160,6 +161,14 @@ struct JointSetSpec {
   double achieved_p10 = 0;        // joints crossing the scanline / its length
 };
 
+/// Where a [[joints]] or [[sets]] entry stands in the introduction sequence (issue 13): stages
+/// in increasing order (`stage = N`, default 1), each stage's entries in file order.
+struct EntryPlace {
+  std::int64_t stage = 1;
+  std::int64_t line = 0;   // the entry's line in the scene file
+  std::int64_t entry = 0;  // ties on one line (inline tables): [[joints]] by index, then [[sets]]
+};
+
 /// What a scene file says, parsed and validated.
 struct Scene {
   std::filesystem::path source;  // the file it came from (for messages)
@@ -171,6 +180,8 @@ struct Scene {
   std::vector<Joint> joints;  // [[joints]], in file order
   std::vector<JointSetSpec> sets;
   std::vector<Region> zones;
+  std::vector<EntryPlace> joint_places;  // one per [[joints]] entry
+  std::vector<EntryPlace> set_places;    // one per [[sets]] entry
 };
 
 /// The joint system of a rock mass: everything in joints.h5.
@@ -198,9 +209,12 @@ std::string fixed_faces_string(std::uint8_t faces);
 /// The bits of a fixed_faces string, or nothing if it names something else.
 std::optional<std::uint8_t> parse_fixed_faces(std::string_view text);
 
-/// Puts joints in introduction order: as-given (file order), largest-first (by polygon area,
-/// persistent first), by-set (deterministic joints one set each in file order, then the sets),
-/// alternating (one joint of each set in turn, each set largest first). Stable.
+/// Puts joints in introduction order, stage by stage (place[i]: joint i's entry), each stage by
+/// `order`: as-given and by-set (the entries in file order, [[joints]] and [[sets]] alike, a
+/// set's joints as generated), largest-first (by polygon area, persistent first; ties in file
+/// order), alternating (one joint of each entry in turn, each entry largest first). Stable.
+void order_joints(std::vector<Joint>& joints, JointOrder order, std::span<const EntryPlace> place);
+/// The same with every [[joints]] entry (set < 0) before the sets, all in stage 1.
 void order_joints(std::vector<Joint>& joints, JointOrder order);
 
 /// A joint's polygon in global coordinates, counter-clockwise about its upward normal; empty
