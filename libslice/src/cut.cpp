@@ -285,7 +285,9 @@ class Cutter {
     below.faces.push_back({plane.normal, plane.d, std::int64_t(j)});
     above.faces.push_back({-plane.normal, -plane.d, std::int64_t(j)});
     if (!set_sphere(below) || !set_sphere(above)) return false;
-    if (limits() && (!within_limits(below) || !within_limits(above))) {
+    // An exempt joint (limits = false, e.g. a construction joint outlining an excavation)
+    // keeps its cuts: its thin pieces cluster with their neighbours across it.
+    if (limits() && joint.limits && (!within_limits(below) || !within_limits(above))) {
       ++stats_.splits_undone;
       return false;
     }

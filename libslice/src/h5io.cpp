@@ -394,7 +394,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
   {
     const std::size_t n = js.joints.size();
     std::vector<double> normal, d, centre, dip, dip_direction, friction, cohesion, uv;
-    std::vector<std::uint8_t> kind;
+    std::vector<std::uint8_t> kind, limits;
     std::vector<std::int32_t> set;
     std::vector<std::int8_t> side;
     std::vector<std::int64_t> offset{0};
@@ -406,6 +406,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
       dip.push_back(j.dip_deg);
       dip_direction.push_back(j.dip_direction_deg);
       kind.push_back(static_cast<std::uint8_t>(j.kind));
+      limits.push_back(j.limits ? 1 : 0);
       set.push_back(j.set);
       friction.push_back(j.friction_angle_deg);
       cohesion.push_back(j.cohesion);
@@ -424,6 +425,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
     g.write<double>("friction_angle", friction);
     g.write<double>("cohesion", cohesion);
     g.write<std::int8_t>("boundary_side", side);
+    g.write<std::uint8_t>("limits", limits);
     g.write<std::int64_t>("polygon_offset", offset);
     g.write<double>("polygon_uv", uv, 2);
   }
@@ -440,6 +442,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
       sg.write_attribute("offset", s.offset);
       sg.write_attribute("friction_angle", s.friction_angle_deg);
       sg.write_attribute("cohesion", s.cohesion);
+      sg.write_attribute<std::int64_t>("limits", s.limits ? 1 : 0);
       sg.write_attribute<std::string>("kind", to_string(s.kind));
       sg.write_attribute<std::int64_t>("boundary_side", s.boundary_side);
       sg.write_attribute("joint_count", s.joint_count);
@@ -707,6 +710,16 @@ JointSystem read_joint_groups(const Group& root) {
     expect_rows(g, "cohesion", cohesion.size(), n, because);
     const auto side = g.read<std::int8_t>("boundary_side");
     expect_rows(g, "boundary_side", side.size(), n, because);
+    // Files from before the limits exemption: every joint obeys the limits.
+    std::vector<std::uint8_t> limits(n, 1);
+    if (g.exists("limits")) {
+      limits = g.read<std::uint8_t>("limits");
+      expect_rows(g, "limits", limits.size(), n, because);
+      for (std::size_t i = 0; i < n; ++i)
+        if (limits[i] > 1)
+          fail(g, "/joints/limits[" + str(i) + "] is " + str(std::int64_t{limits[i]}) +
+                      "; expected 0 or 1");
+    }
     const auto offset = g.read<std::int64_t>("polygon_offset");
     const auto uv = g.read<double>("polygon_uv", 2);
     check_offsets(g, "polygon_offset", offset, n, "joints", uv.size() / 2, "/joints/polygon_uv");
@@ -723,6 +736,7 @@ JointSystem read_joint_groups(const Group& root) {
       j.friction_angle_deg = friction[i];
       j.cohesion = cohesion[i];
       j.boundary_side = side[i];
+      j.limits = limits[i] == 1;
       for (auto k = static_cast<std::size_t>(offset[i]);
            k < static_cast<std::size_t>(offset[i + 1]); ++k)
         j.polygon_uv.emplace_back(uv[2 * k], uv[2 * k + 1]);
@@ -744,6 +758,13 @@ JointSystem read_joint_groups(const Group& root) {
       s.offset = sg.read_attribute<double>("offset");
       s.friction_angle_deg = sg.read_attribute<double>("friction_angle");
       s.cohesion = sg.read_attribute<double>("cohesion");
+      if (sg.has_attribute("limits")) {  // files from before the exemption: 1
+        const auto limits = sg.read_attribute<std::int64_t>("limits");
+        if (limits != 0 && limits != 1)
+          fail(sg, "/sets/" + set_group_name(i) + " attribute limits is " + str(limits) +
+                       "; expected 0 or 1");
+        s.limits = limits == 1;
+      }
       const auto kind = sg.read_attribute<std::string>("kind");
       const auto parsed = parse_joint_kind(kind);
       if (!parsed)

@@ -101,14 +101,14 @@ constexpr std::array<std::string_view, 2> kBoxKeys = {"min", "max"};
 constexpr std::array<std::string_view, 2> kPlaneKeys = {"normal", "d"};
 constexpr std::array<std::string_view, 5> kOptionKeys = {
     "order", "min_inscribed_diameter", "max_aspect_ratio", "max_blocks", "fixed_faces"};
-constexpr std::array<std::string_view, 10> kJointKeys = {
-    "dip",  "dip_direction",  "point",    "polygon", "polygon_uv",
-    "kind", "friction_angle", "cohesion", "keep",    "stage"};
-constexpr std::array<std::string_view, 22> kSetKeys = {
+constexpr std::array<std::string_view, 11> kJointKeys = {
+    "dip",      "dip_direction", "point", "polygon", "polygon_uv", "kind", "friction_angle",
+    "cohesion", "keep",          "stage", "limits"};
+constexpr std::array<std::string_view, 23> kSetKeys = {
     "name",           "dip",      "dip_direction", "spacing", "offset", "kind", "keep",
     "friction_angle", "cohesion", "fisher_kappa",  "density", "count",  "p32",  "p10",
     "scanline",       "size",     "shape",         "aspect",  "sides",  "fit",  "rotation",
-    "stage"};
+    "stage",          "limits"};
 // The intensity keys of a set, in the order of SetIntensity: exactly one is given.
 constexpr std::array<std::string_view, 5> kIntensityKeys = {"spacing", "density", "count", "p32",
                                                             "p10"};
@@ -634,6 +634,7 @@ struct Common {  // what [[joints]] and [[sets]] share
   double dip = 0, dip_direction = 0, friction = 30, cohesion = 0;
   JointKind kind = JointKind::rock;
   std::int8_t side = 0;
+  bool limits = true;
 };
 
 Common read_common(const Tbl& t) {
@@ -652,6 +653,13 @@ Common read_common(const Tbl& t) {
              "give a cohesion >= 0 (Pa)");
   if (const toml::node* k = t.find("kind"))
     c.kind = static_cast<JointKind>(to_choice(t.r, *k, t.label("kind"), kJointKindNames));
+  if (const toml::node* n = t.find("limits")) {
+    const auto* b = n->as_boolean();
+    if (!b)
+      t.r.fail(*n, t.label("limits") + " must be true or false, not " + type_name(*n),
+               "write limits = false to exempt these cuts from the size and shape limits");
+    c.limits = b->get();
+  }
   const toml::node* keep = t.find("keep");
   if (c.kind == JointKind::boundary) {
     const toml::node& kn = t.require(
@@ -678,6 +686,7 @@ Joint read_joint(const Context& cx, const toml::table& tt, std::size_t index) {
   j.friction_angle_deg = c.friction;
   j.cohesion = c.cohesion;
   j.boundary_side = c.side;
+  j.limits = c.limits;
   const JointFrame frame = plane_frame(c.dip, c.dip_direction);
   const toml::node* point = t.find("point");
   const toml::node* poly = t.find("polygon");
@@ -908,6 +917,7 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
   s.kind = c.kind;
   s.friction_angle_deg = c.friction;
   s.cohesion = c.cohesion;
+  s.limits = c.limits;
   s.boundary_side = c.side;
 
   // Exactly one intensity.
@@ -1375,6 +1385,7 @@ JointSystem generate_joints(const Scene& scene) {
         j.set = static_cast<std::int32_t>(s);
         j.friction_angle_deg = spec.friction_angle_deg;
         j.cohesion = spec.cohesion;
+        j.limits = spec.limits;
         j.boundary_side = spec.boundary_side;
         js.joints.push_back(std::move(j));
       }

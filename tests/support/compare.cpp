@@ -39,6 +39,7 @@ void check_same(const slice::JointSystem& a, const slice::JointSystem& b) {
     CHECK(x.friction_angle_deg == y.friction_angle_deg);
     CHECK(x.cohesion == y.cohesion);
     CHECK(x.boundary_side == y.boundary_side);
+    CHECK(x.limits == y.limits);
     CHECK(x.polygon_uv == y.polygon_uv);
   }
   REQUIRE(a.sets.size() == b.sets.size());
@@ -55,6 +56,7 @@ void check_same(const slice::JointSystem& a, const slice::JointSystem& b) {
     CHECK(x.cohesion == y.cohesion);
     CHECK(x.kind == y.kind);
     CHECK(x.boundary_side == y.boundary_side);
+    CHECK(x.limits == y.limits);
     CHECK(x.joint_count == y.joint_count);
     CHECK(x.intensity == y.intensity);
     CHECK(x.fisher_kappa == y.fisher_kappa);

@@ -399,3 +399,39 @@ TEST_CASE("the sequence: file order across [[joints]] and [[sets]], then stages"
   CHECK(cut(domain + largest + polygon + set).blocks.size() == 3);
   CHECK(cut(domain + largest + polygon + set + "stage = 2\n").blocks.size() == 4);
 }
+
+// Issue 13 item 3: limits = false exempts a joint's cuts from the size and shape limits; the
+// thin piece an exempt construction joint makes clusters with its neighbour across it.
+TEST_CASE("limits = false keeps the cuts of an exempt joint", "[cut][limits]") {
+  const std::string opt = "[options]\nmin_inscribed_diameter = 0.3\n";
+  slice::CutStats st;
+  // x = 0.1 would leave a 0.1 m slab: undone unless the joint is exempt.
+  const auto normal =
+      cut(kUnitCube + opt + joint(90, 90, {0.1, 0.5, 0.5}) + joint(90, 90, {0.5, 0.5, 0.5}), true,
+          slice::LpBackend::native, &st);
+  CHECK(normal.blocks.size() == 2);
+  CHECK(st.splits_undone == 1);
+  const auto exempt = cut(kUnitCube + opt + joint(90, 90, {0.1, 0.5, 0.5}, "limits = false\n") +
+                              joint(90, 90, {0.5, 0.5, 0.5}),
+                          true, slice::LpBackend::native, &st);
+  REQUIRE(exempt.blocks.size() == 3);
+  CHECK(st.splits_undone == 0);
+  CHECK(exempt.joints.joints.at(0).limits == false);
+  // A later joint that would split the thin slab is still bound by the limit: y = 0.5 cuts the
+  // two thick blocks but not the 0.1 m slab (its halves would be 0.1 m thin).
+  const auto later = cut(kUnitCube + opt + joint(90, 90, {0.1, 0.5, 0.5}, "limits = false\n") +
+                             joint(90, 90, {0.5, 0.5, 0.5}) + joint(90, 0, {0.5, 0.5, 0.5}),
+                         true, slice::LpBackend::native, &st);
+  CHECK(later.blocks.size() == 5);
+  CHECK(st.splits_undone == 1);
+  // A construction joint exempt from the limits: the slab clusters with its neighbour.
+  const auto outline =
+      cut(kUnitCube + opt +
+              joint(90, 90, {0.1, 0.5, 0.5}, "kind = \"construction\"\nlimits = false\n") +
+              joint(90, 90, {0.5, 0.5, 0.5}),
+          true, slice::LpBackend::native, &st);
+  REQUIRE(outline.blocks.size() == 3);
+  CHECK(st.clusters == 1);
+  for (const auto& b : outline.blocks)
+    CHECK((b.cluster == 0) == (b.origin.x() < 0.5));  // the slab and the block beside it
+}

@@ -66,6 +66,7 @@ slice::JointSystem sample_joints() {
   b.kind = slice::JointKind::construction;
   b.friction_angle_deg = 0;
   b.polygon_uv = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  b.limits = false;  // exempt from the size and shape limits
   js.joints.push_back(b);
 
   slice::Joint c;  // persistent boundary joint of set 1, keeps blocks below

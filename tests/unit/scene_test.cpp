@@ -883,3 +883,20 @@ TEST_CASE("bad scene: stage is a whole number >= 1", "[unit][scene][bad-input]")
                          "stage = \"2\"\n"),
                 {"bad.toml:7", "'stage' in [[joints]] #1"});
 }
+
+TEST_CASE("limits = false on joints and sets reaches every joint they make", "[unit][scene]") {
+  const std::string scene = kHead +
+                            "[[joints]]\ndip = 0\ndip_direction = 0\npoint = [1, 1, 1]\n"
+                            "kind = \"construction\"\nlimits = false\n"
+                            "[[sets]]\nname = \"J1\"\ndip = 90\ndip_direction = 0\nspacing = 2\n"
+                            "limits = false\n"
+                            "[[sets]]\nname = \"J2\"\ndip = 90\ndip_direction = 90\nspacing = 2\n";
+  const auto js = slice::generate_joints(slice::parse_scene(scene, "f.toml"));
+  for (const auto& j : js.joints) CHECK(j.limits == (j.set == 1));
+  CHECK_FALSE(js.sets.at(0).limits);
+  CHECK(js.sets.at(1).limits);
+  check_message(
+      error_of(kHead + "[[sets]]\nname = \"J1\"\ndip = 0\ndip_direction = 0\n" +
+               "spacing = 1\nlimits = \"no\"\n"),
+      {"bad.toml:8", "'limits' in [[sets]] \"J1\" must be true or false", "limits = false"});
+}

@@ -47,6 +47,7 @@ struct Joint {
                                   // points to), -1 below; 0 for other kinds
   std::vector<Vec2> polygon_uv;   // convex, counter-clockwise in the plane frame (orientation.hpp)
                                   // about centre; empty = persistent
+  bool limits = true;             // false: the size and shape limits never undo this joint's cuts
   bool persistent() const { return polygon_uv.empty(); }
 };
 
@@ -152,6 +153,8 @@ struct JointSetSpec {
   EllipseFit fit = EllipseFit::circumscribed;
   bool rotation_fixed = false;  // false: each joint turned by a uniform random angle in-plane
   double rotation_deg = 0;      // fixed rotation, counter-clockwise from strike in (u, v)
+
+  bool limits = true;  // false: the set's cuts are exempt from the size and shape limits
 
   // What generation did (stochastic and regular sets alike).
   std::uint64_t stream_seed = 0;  // seed of the set's gsl_rng_mt19937 stream
