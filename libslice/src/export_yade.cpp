@@ -268,12 +268,19 @@ for cluster in sorted(members_of_cluster):
     clump_of_cluster[cluster] = clump
 progress('%d clumps' % len(clump_of_cluster))
 
+# The volume of each rigid body: a clump moves as one, so its thin members (pieces cut off by a
+# construction joint exempt from the size limit) do not set the time step; its whole volume does.
+volume_of_body = {}
+for row in BLOCKS:
+    body = ('clump', row[3]) if row[3] in clump_of_cluster else ('block', row[0])
+    volume_of_body[body] = volume_of_body.get(body, 0.0) + row[4]
+smallest = min(list(volume_of_body.values()) + [1.0])
+
 )";
     if (!pb) {
-      s << R"(# The smallest block sets the verlet distance and the time step: for the volumetric law a
+      s << R"(# The smallest body sets the verlet distance and the time step: for the volumetric law a
 # contact as large as a face, A ~ V^(2/3), has stiffness k = YOUNG A against m = DENSITY V,
 # dt = sqrt(m / k). (polyhedra_utils.PWaveTimeStep() looks at spheres only and returns 1 s.)
-smallest = min([row[4] for row in BLOCKS] + [1.0])
 # YADE's Polyhedra contact test warns "Unhandled switch case:0" for every new pair of blocks
 # (its separating-plane cache starts empty); blocks that touch face to face make many.
 log.setLevel('Polyhedra_support.cpp', log.ERROR)
@@ -293,7 +300,7 @@ O.dt = TIMESTEP_FACTOR * math.sqrt(DENSITY * smallest ** (1.0 / 3) / YOUNG)
       s << R"(O.engines = [
     ForceResetter(),
     InsertionSortCollider([PotentialBlock2AABB()],
-                          verletDist=0.01 * min([row[4] for row in BLOCKS] + [1.0]) ** (1.0 / 3)),
+                          verletDist=0.01 * smallest ** (1.0 / 3)),
     InteractionLoop(
         [Ig2_PB_PB_ScGeom(twoDimension=False, calContactArea=True)],
         [Ip2_FrictMat_FrictMat_KnKsPBPhys(kn_i=YOUNG, ks_i=POISSON * YOUNG, Knormal=YOUNG,
@@ -306,7 +313,7 @@ O.dt = TIMESTEP_FACTOR * math.sqrt(DENSITY * smallest ** (1.0 / 3) / YOUNG)
 ]
 # Critical time step of the lightest block on its contact stiffness: m = DENSITY V against
 # k = YOUNG V^(2/3) (a contact as large as a face), dt = sqrt(m / k).
-O.dt = TIMESTEP_FACTOR * min([math.sqrt(DENSITY * row[4] ** (1.0 / 3) / YOUNG) for row in BLOCKS] + [1.0])
+O.dt = TIMESTEP_FACTOR * math.sqrt(DENSITY * smallest ** (1.0 / 3) / YOUNG)
 )";
     }
     s << R"py(
