@@ -1341,17 +1341,20 @@ JointSystem generate_joints(const Scene& scene) {
   const Vec3 mean = dom.info.interior_point;  // the domain's vertex mean
   const DomainBox box = domain_box(scene.domain, dom, scene.options.tolerance);
 
-  // [[joints]] first, in file order. A joint that misses the domain entirely is kept: the
-  // slicer finds that it cuts nothing, and the joint indices stay those of the file.
-  // place[i]: the entry joint i comes from, for the sequence (order_joints).
+  // [[joints]], then the sets; order_joints then puts them in sequence. A joint that misses the
+  // domain entirely is kept: the slicer finds that it cuts nothing.
+  // place[i]: the entry joint i comes from. A Scene built in code may have no places: then each
+  // [[joints]] entry is its own entry, all before the sets (group 0, then 1), as order_joints
+  // without places has it.
   std::vector<EntryPlace> place;
-  const auto place_of = [](const std::vector<EntryPlace>& places, std::size_t i) {
-    return i < places.size() ? places[i] : EntryPlace{};
+  const auto place_of = [](const std::vector<EntryPlace>& places, std::size_t i,
+                           std::int64_t group) {
+    return i < places.size() ? places[i] : EntryPlace{1, group, static_cast<std::int64_t>(i)};
   };
   for (std::size_t i = 0; i < scene.joints.size(); ++i) {
     js.joints.push_back(scene.joints[i]);
     js.joints.back().set = -1;
-    place.push_back(place_of(scene.joint_places, i));
+    place.push_back(place_of(scene.joint_places, i, 0));
   }
   for (std::size_t s = 0; s < js.sets.size(); ++s) {
     JointSetSpec& spec = js.sets[s];
@@ -1395,7 +1398,7 @@ JointSystem generate_joints(const Scene& scene) {
     std::vector<const Joint*> mine;
     for (std::size_t i = first; i < js.joints.size(); ++i) mine.push_back(&js.joints[i]);
     measure_set(spec, mine, box);
-    place.resize(js.joints.size(), place_of(scene.set_places, s));
+    place.resize(js.joints.size(), place_of(scene.set_places, s, 1));
   }
   order_joints(js.joints, scene.options.order, place);
   return js;

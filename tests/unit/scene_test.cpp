@@ -477,6 +477,17 @@ spacing = 5
   CHECK(sets_of("by-set") == std::vector<int>{-1, 0, 0, 0, 1});
   CHECK(sets_of("largest-first") == std::vector<int>{0, 0, 0, 1, -1});
   CHECK(sets_of("alternating") == std::vector<int>{-1, 0, 1, 0, 0});
+  // A Scene built in code has no entry places: the same sequences ([[joints]] first).
+  for (const char* order : {"as-given", "by-set", "largest-first", "alternating"}) {
+    CAPTURE(order);
+    auto scene =
+        slice::parse_scene(kHead + "[options]\norder = \"" + order + "\"\n" + sets, "f.toml");
+    scene.joint_places.clear();
+    scene.set_places.clear();
+    std::vector<int> out;
+    for (const auto& j : slice::generate_joints(scene).joints) out.push_back(j.set);
+    CHECK(out == sets_of(order));
+  }
 }
 
 // ---- Bad input: each names the file, the line, the key and a fix ----------------------------

@@ -108,8 +108,6 @@ class Group {
   Context ctx_;
 };
 
-/// An open HDF5 file. Closing it explicitly (close()) reports errors of the final flush; the
-/// destructor closes silently.
 // Marks `path` as the HDF5 file being read (slice::hdf5_input_being_read) while alive.
 class ReadingMark {
  public:
@@ -120,9 +118,11 @@ class ReadingMark {
   ~ReadingMark();
 
  private:
-  std::unique_ptr<char[]> path_;
+  std::unique_ptr<char[]> path_;  // not a std::string: its characters must not move with it
 };
 
+/// An open HDF5 file. Closing it explicitly (close()) reports errors of the final flush; the
+/// destructor closes silently.
 class File {
  public:
   /// Creates (truncates) `path`; messages name `ctx.file`.
