@@ -1,8 +1,16 @@
 // Issue 14: pipelines/Snakefile reruns only what changed. Snakemake (Debian's 7.21) must be
 // installed (pipelines/setup does it): a missing snakemake fails this test, it does not skip.
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <cstdlib>
+#include <map>
+#include <numeric>
+#include <set>
+#include <sstream>
 #include <string>
+#include <vector>
 
+#include "slice/h5io.hpp"
 #include "support/support.hpp"
 
 namespace {
@@ -17,16 +25,16 @@ void write_config(const test::TempDir& tmp, const std::string& scene,
                    "scenes:\n  cube: " + scene + "\nseeds: [1]\nout: " + (tmp / "out").string() +
                        "\ntools: " + SLICE_TOOLS_DIR + "\ncut_options: \"--prune\"\n" +
                        "vertices_options: \"\"\nexports: [vtu]\nvtu_options: \"" + vtu_options +
-                       "\"\nyade_options: \"\"\n");
+                       "\"\nyade_options: \"\"\nplots: false\nsummary: false\n");
 }
 
 // Runs the workflow; returns its log (stdout and stderr).
-std::string snakemake(const test::TempDir& tmp) {
+std::string snakemake(const test::TempDir& tmp, const std::string& options = "--cores 1") {
   const path log = tmp / "snakemake.log";
   const int code = test::run_shell("cd " + test::shell_quote(tmp.path()) + " && snakemake -s " +
                                    test::shell_quote(kRoot / "pipelines" / "Snakefile") +
-                                   " --configfile " + test::shell_quote(tmp / "config.yaml") +
-                                   " --cores 1 > " + test::shell_quote(log) + " 2>&1");
+                                   " --configfile " + test::shell_quote(tmp / "config.yaml") + " " +
+                                   options + " > " + test::shell_quote(log) + " 2>&1");
   const std::string out = test::read_bytes(log);
   INFO(out);
   REQUIRE(code == 0);
@@ -64,4 +72,140 @@ TEST_CASE("the Snakemake workflow reruns only what changed", "[tools][workflow][
   test::write_text(scene, test::read_bytes(test::data_path("cube-3sets.toml")) + "\n# edited\n");
   const std::string fourth = snakemake(tmp);
   for (const char* rule : {"joints", "cut", "vertices", "export_vtu"}) CHECK(ran(fourth, rule));
+}
+
+namespace {
+
+// A small stochastic scene: three sets of square joints with Poisson centres (a few hundred
+// joints, about a thousand blocks per seed).
+const char* kSweepScene = R"(
+[scene]
+name = "sweep"
+seed = 77
+[domain]
+box = { min = [0, 0, 0], max = [20, 20, 20] }
+[options]
+order = "by-set"
+[[sets]]
+dip = 10
+dip_direction = 120
+density = 0.01
+size = { distribution = "lognormal", mean = 6.0, sd = 1.5 }
+[[sets]]
+dip = 80
+dip_direction = 110
+density = 0.01
+size = { distribution = "lognormal", mean = 6.0, sd = 1.5 }
+[[sets]]
+dip = 85
+dip_direction = 10
+density = 0.01
+size = { distribution = "lognormal", mean = 6.0, sd = 1.5 }
+)";
+
+// Rows of a CSV file as name -> value maps (the files pipelines/summary writes have no quoting).
+std::vector<std::map<std::string, std::string>> read_csv(const path& file) {
+  std::istringstream in(test::read_bytes(file));
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::istringstream cs(line);
+    for (std::string c; std::getline(cs, c, ',');) cells.push_back(c);
+    if (header.empty()) {
+      header = cells;
+      continue;
+    }
+    REQUIRE(cells.size() == header.size());
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < cells.size(); ++i) row[header[i]] = cells[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+double number(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
+
+}  // namespace
+
+TEST_CASE("a realization sweep: one folder per seed, a summary over the seeds",
+          "[tools][workflow][snakemake]") {
+  test::TempDir tmp;
+  const path scene = tmp / "sweep.toml";
+  test::write_text(scene, kSweepScene);
+  test::write_text(tmp / "config.yaml", "scenes:\n  sweep: " + scene.string() +
+                                            "\nseeds: 3\nout: " + (tmp / "out").string() +
+                                            "\ntools: " + SLICE_TOOLS_DIR +
+                                            "\nexports: []\nplots: true\nsummary: true\n");
+  const std::string log = snakemake(tmp, "--cores 2");
+  for (const char* rule : {"joints", "cut", "vertices", "plots", "summary"}) CHECK(ran(log, rule));
+
+  // Each seed's blocks, read back with the library: the summary's table must agree with them.
+  const path out = tmp / "out" / "sweep";
+  std::map<int, std::size_t> kept;
+  std::map<int, double> p32;
+  for (int seed = 1; seed <= 3; ++seed) {
+    const path dir = out / ("seed-" + std::to_string(seed));
+    const slice::BlockSystem bs = slice::read_blocks(dir / "geom.h5");
+    CHECK(bs.joints.seed == static_cast<std::uint64_t>(seed));  // --seed overrode [scene] seed
+    REQUIRE(bs.geometry);
+    double volume = 0;
+    for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
+      kept[seed] += (bs.blocks[b].flags & slice::kRemoved) == 0;
+      volume += bs.geometry->volume[b];
+    }
+    CHECK(volume == Approx(8000.0).epsilon(1e-9));
+    for (const auto& set : bs.joints.sets) p32[seed] += set.achieved_p32;
+    for (const char* png : {"geom-stereonet.png", "geom-sizes.png", "geom-volumes.png"})
+      CHECK(test::read_bytes(dir / "plots" / png).rfind("\x89PNG", 0) == 0);
+  }
+  // Realizations differ (else the seed did not reach the sets).
+  CHECK(std::set<std::size_t>{kept[1], kept[2], kept[3]}.size() == 3);
+
+  const auto table = read_csv(out / "summary" / "realizations.csv");
+  REQUIRE(table.size() == 3);
+  for (int seed = 1; seed <= 3; ++seed) {
+    const auto& row = table[static_cast<std::size_t>(seed - 1)];
+    CAPTURE(seed);
+    CHECK(row.at("seed") == std::to_string(seed));
+    CHECK(row.at("blocks") == std::to_string(kept[seed]));
+    CHECK(number(row.at("rock_volume")) == Approx(8000.0).epsilon(1e-6));
+    CHECK(number(row.at("p32_total")) == Approx(p32[seed]).epsilon(1e-6));
+    CHECK(number(row.at("p32_total")) > 0);
+    for (const char* set : {"set-1", "set-2", "set-3"}) {
+      CHECK(number(row.at(std::string(set) + "_joints")) > 10);
+      CHECK(number(row.at(std::string(set) + "_p10")) >= 0);
+    }
+    CHECK(number(row.at("median_volume")) <= number(row.at("v50")));
+  }
+
+  // The distributions: per seed non-decreasing from below 1 up to 1, the band ordered.
+  const auto cdf = read_csv(out / "summary" / "volume-cdf.csv");
+  REQUIRE(cdf.size() == 200);
+  for (int seed = 1; seed <= 3; ++seed) {
+    for (const std::string what : {"number_seed", "volume_seed"}) {
+      const std::string column = what + std::to_string(seed);
+      double last = 0;
+      for (const auto& row : cdf) {
+        const double f = number(row.at(column));
+        CHECK(f >= last - 1e-12);
+        last = f;
+      }
+      CHECK(last == Approx(1.0));
+      CHECK(number(cdf.front().at(column)) < 0.01);
+    }
+  }
+  const auto band = read_csv(out / "summary" / "volume-band.csv");
+  REQUIRE(band.size() == 200);
+  for (const auto& row : band) {
+    for (const std::string what : {"number", "volume"}) {
+      CHECK(number(row.at(what + "_p05")) <= number(row.at(what + "_median")));
+      CHECK(number(row.at(what + "_median")) <= number(row.at(what + "_p95")));
+    }
+  }
+  CHECK(test::read_bytes(out / "summary" / "volumes.png").rfind("\x89PNG", 0) == 0);
+
+  // Nothing changed: nothing runs, the summary included.
+  CHECK_THAT(snakemake(tmp), Catch::Contains("Nothing to be done"));
 }
