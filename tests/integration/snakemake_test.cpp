@@ -76,33 +76,6 @@ TEST_CASE("the Snakemake workflow reruns only what changed", "[tools][workflow][
 
 namespace {
 
-// A small stochastic scene: three sets of square joints with Poisson centres (a few hundred
-// joints, about a thousand blocks per seed).
-const char* kSweepScene = R"(
-[scene]
-name = "sweep"
-seed = 77
-[domain]
-box = { min = [0, 0, 0], max = [20, 20, 20] }
-[options]
-order = "by-set"
-[[sets]]
-dip = 10
-dip_direction = 120
-density = 0.01
-size = { distribution = "lognormal", mean = 6.0, sd = 1.5 }
-[[sets]]
-dip = 80
-dip_direction = 110
-density = 0.01
-size = { distribution = "lognormal", mean = 6.0, sd = 1.5 }
-[[sets]]
-dip = 85
-dip_direction = 10
-density = 0.01
-size = { distribution = "lognormal", mean = 6.0, sd = 1.5 }
-)";
-
 // Rows of a CSV file as name -> value maps (the files pipelines/summary writes have no quoting).
 std::vector<std::map<std::string, std::string>> read_csv(const path& file) {
   std::istringstream in(test::read_bytes(file));
@@ -132,8 +105,7 @@ double number(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
 TEST_CASE("a realization sweep: one folder per seed, a summary over the seeds",
           "[tools][workflow][snakemake]") {
   test::TempDir tmp;
-  const path scene = tmp / "sweep.toml";
-  test::write_text(scene, kSweepScene);
+  const path scene = test::test_data_path("sweep.toml");
   test::write_text(tmp / "config.yaml", "scenes:\n  sweep: " + scene.string() +
                                             "\nseeds: 3\nout: " + (tmp / "out").string() +
                                             "\ntools: " + SLICE_TOOLS_DIR +
