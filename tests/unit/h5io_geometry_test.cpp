@@ -6,7 +6,7 @@
 #include <limits>
 #include <string>
 
-#include "h5/h5.hpp"
+#include "io/h5/h5.hpp"
 #include "slice/cut.hpp"
 #include "slice/error.hpp"
 #include "slice/h5io.hpp"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "h5/h5.hpp"
+#include "io/h5/h5.hpp"
 #include "slice/error.hpp"
 #include "support/compare.hpp"
 #include "support/support.hpp"

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "h5/h5.hpp"
+#include "io/h5/h5.hpp"
 #include "slice/error.hpp"
 #include "slice/h5io.hpp"
 #include "slice/orientation.hpp"

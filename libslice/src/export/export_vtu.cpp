@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "h5/h5.hpp"
+#include "../io/h5/h5.hpp"
 #include "slice/error.hpp"
 #include "slice/orientation.hpp"
 #include "slice/output.hpp"

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "h5/h5.hpp"
+#include "../io/h5/h5.hpp"
 #include "slice/error.hpp"
 #include "slice/output.hpp"
 #include "slice/version.hpp"
