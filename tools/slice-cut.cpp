@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
                   "refuse to make more blocks than this (default: the scene's [options] "
                   "max_blocks, itself 2,000,000 by default)")
       ->check(CLI::PositiveNumber);
+  t.add_threads_option();
   return t.run(argc, argv, [&] {
     tool::check_distinct_paths({{"joints", in, false}, {"-o", out}, {"--stats", stats_file}});
     slice::CutOptions opt;
@@ -38,11 +39,12 @@ int main(int argc, char** argv) {
     opt.use_index = !no_index;
     opt.max_blocks = max_blocks;
     opt.certify = certify;
+    opt.threads = t.threads;
     const slice::JointSystem js = slice::read_joints(in);
     slice::CutResult r = slice::cut_blocks(js, opt, t.progress());
     const auto& s = r.stats;
     slice::PruneStats ps;
-    if (prune) ps = slice::prune_blocks(r.blocks, opt.backend, t.progress(), certify);
+    if (prune) ps = slice::prune_blocks(r.blocks, opt.backend, t.progress(), certify, t.threads);
     slice::DecisionCounts d = s.decisions;
     d += ps.decisions;
     slice::write_blocks(out, r.blocks, t.provenance(in));

@@ -16,13 +16,14 @@ int main(int argc, char** argv) {
   t.cli.add_flag("--certify", certify,
                  "decide again with the exact backend every redundancy decision that lies within "
                  "the tolerance of its threshold");
+  t.add_threads_option();
   return t.run(argc, argv, [&] {
     // Without -o the input is replaced (atomically); -o naming the input is refused like every
     // other clash, so a script's typo is caught.
     tool::check_distinct_paths({{"blocks", in, false}, {"-o", out}});
     const auto lp = slice::parse_lp_backend(backend);
     slice::BlockSystem bs = slice::read_blocks(in);
-    const slice::PruneStats s = slice::prune_blocks(bs, lp, t.progress(), certify);
+    const slice::PruneStats s = slice::prune_blocks(bs, lp, t.progress(), certify, t.threads);
     const std::string target = out.empty() ? in : out;
     slice::write_blocks(target, bs, t.provenance(in));
     t.say(std::to_string(bs.blocks.size()) + " blocks: faces " + std::to_string(s.faces_before) +

@@ -86,8 +86,21 @@ Tool::Tool(std::string name, const std::string& description)
 
 Tool::~Tool() = default;
 
+void Tool::add_threads_option() {
+  cli.add_option("--threads", threads, "threads to run on (default: all cores)")
+      ->check(CLI::PositiveNumber);
+}
+
 int Tool::run(int argc, char** argv, const std::function<void()>& body) {
-  for (int i = 0; i < argc; ++i) command_line_ += (i ? " " : "") + std::string(argv[i]);
+  for (int i = 0; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--threads" && i + 1 < argc) {  // not provenance: see add_threads_option
+      ++i;
+      continue;
+    }
+    if (a.rfind("--threads=", 0) == 0) continue;
+    command_line_ += (command_line_.empty() ? "" : " ") + a;
+  }
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

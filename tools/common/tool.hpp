@@ -24,6 +24,11 @@ class Tool {
   CLI::App cli;
   bool quiet = false;
   bool verbose = false;
+  int threads = 0;  // --threads, where the tool offers it (add_threads_option); 0: all cores
+
+  /// Adds --threads N. It changes no result, so the command line stored in the output's
+  /// provenance leaves it out: the file is the same bytes for every thread count.
+  void add_threads_option();
 
   /// Parses argv, then runs body; maps exceptions to exit codes and one line on stderr.
   int run(int argc, char** argv, const std::function<void()>& body);

@@ -23,6 +23,13 @@ struct CutOptions {
   /// Decide again exactly every cut, limit and contact decision within the tolerance of its
   /// threshold (decide.hpp); without it, only those within a few hundred rounding errors.
   bool certify = false;
+  /// Threads (oneTBB); 0: all cores. The ipopt backend runs on one (its linear solver keeps
+  /// global state). Results and figures are the same for every count.
+  int threads = 0;
+  /// The cut runs on one thread until there are this many blocks, then cuts each of them as an
+  /// independent task; 0: one thread throughout. Blocks are the same for every value; the LP
+  /// counts are not (a task is only given the joints that reach its first block's sphere).
+  std::size_t tasks = 512;
 };
 
 /// LPs solved, by kind.
@@ -72,7 +79,9 @@ struct PruneStats {
 /// the faces kept so far; sets bs.pruned. Every block must be a solid (bounded, with an interior):
 /// Error names the first that is not. `certify`: as CutOptions::certify, for the redundancy
 /// decisions.
+/// `threads`: as CutOptions::threads; the result, its figures and the first error reported are
+/// the same for every count.
 PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& progress = {},
-                        bool certify = false);
+                        bool certify = false, int threads = 0);
 
 }  // namespace slice

@@ -1,11 +1,21 @@
 #include "slice/cut.hpp"
 
+#include <oneapi/tbb/combinable.h>
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/info.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <exception>
+#include <memory>
+#include <mutex>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -60,143 +70,203 @@ void move_origin(Block& b, const Vec3& shift) {
   b.origin += shift;
 }
 
-class Cutter {
- public:
-  Cutter(const JointSystem& js, const CutOptions& opt, const Progress& progress)
-      : js_(js),
-        opt_(opt),
-        progress_(progress),
-        tol_(Tolerances::from_scale(js.length_scale, js.options.tolerance)),
-        referee_(opt.backend, tol_, opt.certify),
-        solver_(referee_.solver()) {}
+// ---- Threads (issue 15) ------------------------------------------------------------------------
+// The subdivision is sequential by nature, yet once a joint has split a block, what happens to
+// each piece later depends only on that piece and on the joints that reach it. So the cut runs
+// in two phases: on one thread until there are kTasks blocks, then every one of those blocks is
+// cut by the later joints that may reach it, as an independent task (oneTBB, any thread). The
+// pieces are then put back in the order one thread would have made them (split_order below), so
+// blocks.h5 is the same bytes for every thread count; the figures a run reports add up per task,
+// so they are the same too. The split into tasks does not depend on the thread count.
 
-  CutResult run() {
-    check_estimate();
-    CutResult out;
-    out.blocks.joints = js_;
-    start_domain();
-    const auto t0 = Clock::now();
-    for (std::size_t j = 0; j < js_.joints.size(); ++j) {
-      cut_by(j);
-      if (progress_) progress_("cut", j + 1, js_.joints.size());
-    }
-    stats_.seconds_cut = seconds_since(t0);
-    const auto t1 = Clock::now();
-    finish();
-    stats_.seconds_finish = seconds_since(t1);
-    stats_.joints = js_.joints.size();
-    stats_.decisions = referee_.counts();
-    stats_.lps.failed += stats_.decisions.failed;
-    stats_.blocks = blocks_.size();
-    out.blocks.blocks = std::move(blocks_);
-    out.stats = stats_;
-    return out;
+/// One split: at joint `joint`, block `block` kept the side below and `child` (a new block) the
+/// side above. Block numbers are local to the subdivision that made them.
+struct SplitEvent {
+  std::size_t joint, block, child;
+};
+
+/// One Referee (LP backend plus exact fallback) per thread, made on first use.
+class Referees {
+ public:
+  Referees(LpBackend backend, const Tolerances& tol, bool certify)
+      : backend_(backend), tol_(tol), certify_(certify) {}
+  Referee& local() {
+    auto& r = all_.local();
+    if (!r) r = std::make_unique<Referee>(backend_, tol_, certify_);
+    return *r;
+  }
+  DecisionCounts counts() const {
+    DecisionCounts c;
+    for (const auto& r : all_)
+      if (r) c += r->counts();
+    return c;
   }
 
  private:
-  const JointSystem& js_;
-  const CutOptions& opt_;
-  const Progress& progress_;
+  LpBackend backend_;
   Tolerances tol_;
-  Referee referee_;
-  LpSolver& solver_;  // the referee's: failed LPs are solved again exactly
-  std::vector<Block> blocks_;
-  SphereGrid grid_;
-  std::size_t grid_built_for_ = 0;
-  std::vector<std::uint32_t> stamp_;  // last joint (+1) that visited a block in the grid
-  std::vector<std::size_t> candidates_;
-  CutStats stats_;
-  Vec3 domain_lo_ = Vec3::Zero(), domain_hi_ = Vec3::Zero();
+  bool certify_;
+  tbb::enumerable_thread_specific<std::unique_ptr<Referee>> all_;
+};
 
-  std::int64_t max_blocks() const {
-    return opt_.max_blocks > 0 ? opt_.max_blocks : js_.options.max_blocks;
+/// The threads to run on: CutOptions::threads up to the cores, but one for Ipopt, whose linear
+/// solver (MUMPS, sequential build) keeps global state.
+int threads_for(const CutOptions& opt) {
+  if (opt.backend == LpBackend::ipopt) return 1;
+  // More threads than cores would only wait (and oneTBB warns that it limits them).
+  const int cores = tbb::info::default_concurrency();
+  return opt.threads > 0 ? std::min(opt.threads, cores) : cores;
+}
+
+/// What every subdivision shares (read only, but for the block count).
+struct CutContext {
+  const JointSystem& js;
+  const CutOptions& opt;
+  Tolerances tol;
+  std::int64_t max_blocks = 0;
+  bool limits = false;
+  /// Phase 2: the blocks made so far by all tasks together (for max_blocks); null in phase 1.
+  std::atomic<std::int64_t>* total = nullptr;
+};
+
+std::string max_blocks_fix() {
+  return "raise max_blocks ([options] max_blocks in the scene, or slice-cut --max-blocks) if "
+         "the machine has the memory (about 1.6 kB a block at slice-cut's peak), or cut less: "
+         "a larger spacing, fewer joints, a smaller domain";
+}
+
+/// Could the joint reach block sphere (c, r)? Spheres only (eq. 17 and Fig. 18): conservative.
+bool may_reach(const PreparedJoint& pj, const Eigen::Vector4d& sphere, double tol) {
+  const Vec3 c = sphere.head<3>();
+  const double r = sphere[3];
+  if (std::abs(pj.plane.distance(c)) >= r + tol) return false;
+  if (!pj.edges.empty() && (c - pj.centre).norm() >= r + pj.radius + tol) return false;
+  return true;
+}
+
+/// The sequential subdivision of one block (the domain in phase 1, a task's block in phase 2)
+/// by joints given one at a time in increasing order.
+class Subdivision {
+ public:
+  Subdivision(const CutContext& ctx, Block root, const Vec3& lo, const Vec3& hi)
+      : ctx_(ctx), lo_(lo), hi_(hi) {
+    blocks.push_back(std::move(root));
+    if (ctx_.opt.use_index) rebuild_grid();
   }
 
-  static std::string max_blocks_fix() {
-    return "raise max_blocks ([options] max_blocks in the scene, or slice-cut --max-blocks) if "
-           "the machine has the memory (about 1.6 kB a block at slice-cut's peak), or cut less: "
-           "a larger spacing, fewer joints, a smaller domain";
-  }
+  std::vector<Block> blocks;
+  std::vector<SplitEvent> events;
+  std::vector<std::size_t> joints_that_cut;  // increasing
+  LpCounts lps;
+  std::size_t splits = 0, splits_undone = 0;
+  std::size_t tested = 0;  // joint-block pairs given to the cut LP
 
-  /// Refuses, before any work, a joint system whose persistent joints alone make more than
-  /// max_blocks blocks.
-  void check_estimate() const {
-    const BlockEstimate e = estimate_blocks(js_);
-    if (e.blocks() <= double(max_blocks())) return;
-    char buf[400];
-    std::snprintf(buf, sizeof buf,
-                  "its persistent joints make %s%.0f blocks (1 + %lld planes + %.0f lines + %.0f "
-                  "points inside the domain), more than max_blocks = %lld",
-                  e.sampled ? "about " : "", e.blocks(), static_cast<long long>(e.planes), e.lines,
-                  e.points, static_cast<long long>(max_blocks()));
-    throw Error("/joints", buf, max_blocks_fix());
-  }
-
-  bool limits() const {
-    return js_.options.min_inscribed_diameter > 0 || js_.options.max_aspect_ratio > 0;
-  }
-
-  void start_domain() {
-    const PolytopeInfo info = analyse_polytope(js_.domain.planes, tol_.geometry);
-    if (!info.bounded || !info.has_interior)
-      throw Error("/domain", "the domain is empty or unbounded", "regenerate it with slice-joints");
-    if (const std::string why = precision_problem(info.min, info.max, tol_.cut); !why.empty())
-      throw Error("/domain", why, "move the scene nearer the origin or raise its tolerance");
-    domain_lo_ = info.min;
-    domain_hi_ = info.max;
-    Block b;
-    b.origin = info.interior_point;
-    for (const Plane& p : js_.domain.planes) {
-      const Plane l = to_local(p, b.origin);
-      b.faces.push_back({l.normal, l.d, -1});
-    }
-    if (!set_sphere(b))
-      throw Error("/domain", "the domain's extents LP failed", "check the domain");
-    blocks_.push_back(std::move(b));
-    rebuild_grid();
-  }
-
-  /// Extents (eq. 17): the bounding sphere, and the origin moved to the box centre so that
-  /// the block's numbers stay small. False if an LP failed.
-  bool set_sphere(Block& b) {
-    const Extents e = extents(solver_, b.faces, tol_);
-    stats_.lps.extents += 6;
+  /// Sets the bounding sphere of a block (the root's, before a subdivision starts).
+  static bool set_sphere(const CutContext& ctx, LpSolver& solver, Block& b, LpCounts& lps) {
+    const Extents e = extents(solver, b.faces, ctx.tol);
+    lps.extents += 6;
     if (e.status != LpStatus::optimal) {
-      ++stats_.lps.failed;
+      ++lps.failed;
       return false;
     }
     move_origin(b, e.centre);
     b.bsphere << b.origin, e.radius;
-    drop_faces_clear_of_box(b, (e.max - e.min) / 2);
+    // A face whose half-space holds the block's whole bounding box (half sizes h about the
+    // origin) cannot touch the block: dropping it changes no geometry and keeps the LPs small
+    // (without this, a block inherits every face of its ancestors: ~100 rows per LP on the
+    // Table 3 scene). Faces that touch the box but not the block are left to prune_blocks.
+    const Vec3 h = (e.max - e.min) / 2;
+    std::erase_if(b.faces, [&](const Face& f) {
+      return f.normal.cwiseAbs().dot(h) < f.d - ctx.tol.geometry;
+    });
     return true;
   }
 
-  /// A face whose half-space holds the block's whole bounding box (half sizes h about the
-  /// origin) cannot touch the block: dropping it changes no geometry and keeps the LPs small
-  /// (without this, a block inherits every face of its ancestors: ~100 rows per LP on the
-  /// Table 3 scene). Faces that touch the box but not the block are left to prune_blocks.
-  void drop_faces_clear_of_box(Block& b, const Vec3& h) {
-    std::erase_if(b.faces,
-                  [&](const Face& f) { return f.normal.cwiseAbs().dot(h) < f.d - tol_.geometry; });
+  /// Cuts every block this joint may reach. The referee is the calling thread's.
+  void cut_by(std::size_t j, Referee& referee) {
+    const Joint& joint = ctx_.js.joints[j];
+    const PreparedJoint pj = prepare(joint);
+    find_candidates(j, pj);
+    std::size_t cut = 0;
+    std::vector<Plane> edges_local;
+    for (const std::size_t i : candidates_) {
+      Block& b = blocks[i];
+      if (b.flags & kBoundary) continue;  // boundary blocks are never cut again
+      if (ctx_.opt.use_index && !may_reach(pj, b.bsphere, ctx_.tol.cut)) continue;
+      const Plane plane = to_local(pj.plane, b.origin);
+      edges_local.clear();
+      for (const Plane& e : pj.edges) edges_local.push_back(to_local(e, b.origin));
+      const CutTest t = referee.cut(b.faces, plane, edges_local);
+      ++lps.cut_test;
+      ++tested;
+      if (t.status != LpStatus::optimal) {
+        ++lps.failed;  // the paper's "self-defence": no new data structure
+        continue;
+      }
+      if (!t.cuts) {
+        if (joint.kind == JointKind::boundary && pj.edges.empty())
+          flag_side(b, joint, plane, referee.solver());
+        continue;
+      }
+      if (split(i, j, plane, referee)) ++cut;
+    }
+    if (cut > 0) joints_that_cut.push_back(j);
+    check_max_blocks(j, cut);
+    if (joint.kind == JointKind::boundary && pj.edges.empty()) {
+      // A persistent boundary joint: every block wholly on the keep side becomes a boundary
+      // block, also those its plane passes far from.
+      for (Block& b : blocks) {
+        if (b.flags & kBoundary) continue;
+        const double dist = pj.plane.distance(b.bsphere.head<3>());
+        if (std::abs(dist) >= b.bsphere[3] + ctx_.tol.cut && dist * joint.boundary_side > 0)
+          b.flags |= kBoundary;
+      }
+    }
+    if (ctx_.opt.use_index && blocks.size() >= 2 * grid_built_for_) rebuild_grid();
+  }
+
+ private:
+  const CutContext& ctx_;
+  Vec3 lo_, hi_;  // a box holding every block of this subdivision
+  SphereGrid grid_;
+  std::size_t grid_built_for_ = 0;
+  std::vector<std::uint32_t> stamp_;  // last joint (+1) that visited a block in the grid
+  std::vector<std::size_t> candidates_;
+
+  void check_max_blocks(std::size_t j, std::size_t cut) {
+    const std::int64_t limit = ctx_.max_blocks;
+    if (!ctx_.total) {
+      if (std::int64_t(blocks.size()) > limit)
+        throw Error("/joints",
+                    "the cut passed max_blocks = " + std::to_string(limit) + " blocks at joint " +
+                        std::to_string(j) + " of " + std::to_string(ctx_.js.joints.size()),
+                    max_blocks_fix());
+      return;
+    }
+    // Tasks run in any order: which joint passes the limit first is not defined, so it is not
+    // named (the same message for every thread count).
+    if (ctx_.total->fetch_add(std::int64_t(cut)) + std::int64_t(cut) > limit)
+      throw Error("/joints", "the cut passed max_blocks = " + std::to_string(limit) + " blocks",
+                  max_blocks_fix());
   }
 
   void rebuild_grid() {
     // The finest level has about two cells per block, at most 2^18 cells; rebuilt (one entry
     // per block) as the blocks multiply.
-    const std::size_t cells = std::clamp<std::size_t>(blocks_.size() * 2, 64, std::size_t(1) << 18);
-    grid_.reset(domain_lo_, domain_hi_, cells);
-    for (std::size_t i = 0; i < blocks_.size(); ++i) grid_.insert(i, blocks_[i].bsphere);
-    grid_built_for_ = blocks_.size();
+    const std::size_t cells = std::clamp<std::size_t>(blocks.size() * 2, 64, std::size_t(1) << 18);
+    grid_.reset(lo_, hi_, cells);
+    for (std::size_t i = 0; i < blocks.size(); ++i) grid_.insert(i, blocks[i].bsphere);
+    grid_built_for_ = blocks.size();
   }
 
   /// The blocks joint j may reach, in increasing index order.
   void find_candidates(std::size_t j, const PreparedJoint& pj) {
     candidates_.clear();
-    if (!opt_.use_index) {
-      for (std::size_t i = 0; i < blocks_.size(); ++i) candidates_.push_back(i);
+    if (!ctx_.opt.use_index) {
+      for (std::size_t i = 0; i < blocks.size(); ++i) candidates_.push_back(i);
       return;
     }
-    if (stamp_.size() < blocks_.size()) stamp_.resize(blocks_.size(), 0);
+    if (stamp_.size() < blocks.size()) stamp_.resize(blocks.size(), 0);
     const auto visit = [&](std::size_t i) {
       if (stamp_[i] == j + 1) return;
       stamp_[i] = std::uint32_t(j + 1);
@@ -209,129 +279,330 @@ class Cutter {
     std::sort(candidates_.begin(), candidates_.end());
   }
 
-  /// Could the joint reach block b? Spheres only (eq. 17 and Fig. 18): conservative.
-  bool may_reach(const PreparedJoint& pj, const Block& b) const {
-    const Vec3 c = b.bsphere.head<3>();
-    const double r = b.bsphere[3];
-    if (std::abs(pj.plane.distance(c)) >= r + tol_.cut) return false;
-    if (!pj.edges.empty() && (c - pj.centre).norm() >= r + pj.radius + tol_.cut) return false;
-    return true;
-  }
-
-  void cut_by(std::size_t j) {
-    const Joint& joint = js_.joints[j];
-    const PreparedJoint pj = prepare(joint);
-    find_candidates(j, pj);
-    const std::size_t before = blocks_.size();
-    std::size_t tested = 0, cut = 0;
-    std::vector<Plane> edges_local;
-    for (const std::size_t i : candidates_) {
-      Block& b = blocks_[i];
-      if (b.flags & kBoundary) continue;  // boundary blocks are never cut again
-      if (opt_.use_index && !may_reach(pj, b)) continue;
-      const Plane plane = to_local(pj.plane, b.origin);
-      edges_local.clear();
-      for (const Plane& e : pj.edges) edges_local.push_back(to_local(e, b.origin));
-      const CutTest t = referee_.cut(b.faces, plane, edges_local);
-      ++stats_.lps.cut_test;
-      ++tested;
-      if (t.status != LpStatus::optimal) {
-        ++stats_.lps.failed;  // the paper's "self-defence": no new data structure
-        continue;
-      }
-      if (!t.cuts) {
-        if (joint.kind == JointKind::boundary && pj.edges.empty()) flag_side(b, joint, plane);
-        continue;
-      }
-      if (split(i, j, plane)) ++cut;
-    }
-    stats_.pairs_skipped += before - tested;
-    if (std::int64_t(blocks_.size()) > max_blocks())
-      throw Error("/joints",
-                  "the cut passed max_blocks = " + std::to_string(max_blocks()) +
-                      " blocks at joint " + std::to_string(j) + " of " +
-                      std::to_string(js_.joints.size()),
-                  max_blocks_fix());
-    if (cut == 0) ++stats_.joints_missing;
-    if (joint.kind == JointKind::boundary && pj.edges.empty()) {
-      // A persistent boundary joint: every block wholly on the keep side becomes a boundary
-      // block, also those its plane passes far from.
-      for (Block& b : blocks_) {
-        if (b.flags & kBoundary) continue;
-        const double dist = pj.plane.distance(b.bsphere.head<3>());
-        if (std::abs(dist) >= b.bsphere[3] + tol_.cut && dist * joint.boundary_side > 0)
-          b.flags |= kBoundary;
-      }
-    }
-    if (blocks_.size() >= 2 * grid_built_for_ && opt_.use_index) rebuild_grid();
-  }
-
   /// A block the plane does not cut lies on one side of it: its Chebyshev centre tells which.
-  void flag_side(Block& b, const Joint& joint, const Plane& plane_local) {
-    const ChebyshevBall c = chebyshev_ball(solver_, b.faces, tol_);
-    ++stats_.lps.chebyshev;
+  void flag_side(Block& b, const Joint& joint, const Plane& plane_local, LpSolver& solver) {
+    const ChebyshevBall c = chebyshev_ball(solver, b.faces, ctx_.tol);
+    ++lps.chebyshev;
     if (c.status != LpStatus::optimal) {
-      ++stats_.lps.failed;
+      ++lps.failed;
       return;
     }
     if (plane_local.distance(c.centre) * joint.boundary_side > 0) b.flags |= kBoundary;
   }
 
   /// Splits block i by the plane of joint j (block frame). False if undone.
-  bool split(std::size_t i, std::size_t j, const Plane& plane) {
-    const Joint& joint = js_.joints[j];
-    Block below = blocks_[i];  // n . x <= d
-    Block above = blocks_[i];  // -n . x <= -d
+  bool split(std::size_t i, std::size_t j, const Plane& plane, Referee& referee) {
+    const Joint& joint = ctx_.js.joints[j];
+    Block below = blocks[i];  // n . x <= d
+    Block above = blocks[i];  // -n . x <= -d
     below.faces.push_back({plane.normal, plane.d, std::int64_t(j)});
     above.faces.push_back({-plane.normal, -plane.d, std::int64_t(j)});
-    if (!set_sphere(below) || !set_sphere(above)) return false;
+    LpSolver& solver = referee.solver();
+    if (!set_sphere(ctx_, solver, below, lps) || !set_sphere(ctx_, solver, above, lps))
+      return false;
     // An exempt joint (limits = false, e.g. a construction joint outlining an excavation)
     // keeps its cuts: its thin pieces cluster with their neighbours across it.
-    if (limits() && joint.limits && (!within_limits(below) || !within_limits(above))) {
-      ++stats_.splits_undone;
+    if (ctx_.limits && joint.limits &&
+        (!within_limits(below, referee) || !within_limits(above, referee))) {
+      ++splits_undone;
       return false;
     }
     if (joint.kind == JointKind::boundary) {
       (joint.boundary_side > 0 ? above : below).flags |= kBoundary;
     }
-    ++stats_.splits;
-    blocks_[i] = std::move(below);
-    blocks_.push_back(std::move(above));
-    if (opt_.use_index) {
-      grid_.update(i, blocks_[i].bsphere);
-      grid_.insert(blocks_.size() - 1, blocks_.back().bsphere);
+    ++splits;
+    blocks[i] = std::move(below);
+    blocks.push_back(std::move(above));
+    events.push_back({j, i, blocks.size() - 1});
+    if (ctx_.opt.use_index) {
+      grid_.update(i, blocks[i].bsphere);
+      grid_.insert(blocks.size() - 1, blocks.back().bsphere);
     }
     return true;
   }
 
   /// Size and shape limits (eq. 18): inscribed diameter and bounding / inscribed radius.
-  bool within_limits(Block& b) {
-    const auto& o = js_.options;
+  bool within_limits(Block& b, Referee& referee) {
+    const auto& o = ctx_.js.options;
     const ChebyshevBall c =
-        referee_.limit_ball(b.faces, o.min_inscribed_diameter, o.max_aspect_ratio, b.bsphere[3]);
-    ++stats_.lps.chebyshev;
+        referee.limit_ball(b.faces, o.min_inscribed_diameter, o.max_aspect_ratio, b.bsphere[3]);
+    ++lps.chebyshev;
     if (c.status != LpStatus::optimal) {
-      ++stats_.lps.failed;
+      ++lps.failed;
       return false;
     }
     b.inradius = c.radius;
     return slice::within_limits(c.radius, b.bsphere[3], o.min_inscribed_diameter,
                                 o.max_aspect_ratio);
   }
+};
+
+void add(LpCounts& a, const LpCounts& b) {
+  a.cut_test += b.cut_test;
+  a.extents += b.extents;
+  a.chebyshev += b.chebyshev;
+  a.redundancy += b.redundancy;
+  a.contact += b.contact;
+  a.failed += b.failed;
+}
+
+/// The order one thread makes blocks in: at each joint, the blocks it splits in increasing
+/// (global) number, each keeping its number for the side below and appending the side above.
+/// tasks[t]'s block 0 is global block t. Returns, per task, the global number of each of its
+/// blocks.
+std::vector<std::vector<std::size_t>> split_order(const std::vector<Subdivision>& tasks) {
+  std::vector<std::vector<std::size_t>> global(tasks.size());
+  struct Tagged {
+    std::size_t task;
+    const SplitEvent* event;
+  };
+  std::vector<Tagged> all;
+  std::size_t count = 0;
+  for (std::size_t t = 0; t < tasks.size(); ++t) {
+    global[t].assign(tasks[t].blocks.size(), 0);
+    global[t][0] = t;
+    count += tasks[t].events.size();
+  }
+  all.reserve(count);
+  for (std::size_t t = 0; t < tasks.size(); ++t)
+    for (const SplitEvent& e : tasks[t].events) all.push_back({t, &e});
+  // Each task's events are in joint order already: a stable sort keeps their order per joint.
+  std::stable_sort(all.begin(), all.end(), [](const Tagged& a, const Tagged& b) {
+    return a.event->joint < b.event->joint;
+  });
+  std::size_t next = tasks.size();
+  for (std::size_t lo = 0; lo < all.size();) {
+    std::size_t hi = lo;
+    while (hi < all.size() && all[hi].event->joint == all[lo].event->joint) ++hi;
+    const auto key = [&](const Tagged& x) { return global[x.task][x.event->block]; };
+    std::sort(all.begin() + std::ptrdiff_t(lo), all.begin() + std::ptrdiff_t(hi),
+              [&](const Tagged& a, const Tagged& b) { return key(a) < key(b); });
+    for (std::size_t k = lo; k < hi; ++k) global[all[k].task][all[k].event->child] = next++;
+    lo = hi;
+  }
+  return global;
+}
+
+class Cutter {
+ public:
+  Cutter(const JointSystem& js, const CutOptions& opt, const Progress& progress)
+      : js_(js),
+        opt_(opt),
+        progress_(progress),
+        ctx_{js,
+             opt,
+             Tolerances::from_scale(js.length_scale, js.options.tolerance),
+             opt.max_blocks > 0 ? opt.max_blocks : js.options.max_blocks,
+             js.options.min_inscribed_diameter > 0 || js.options.max_aspect_ratio > 0,
+             nullptr},
+        referees_(opt.backend, ctx_.tol, opt.certify),
+        arena_(threads_for(opt)) {}
+
+  CutResult run() {
+    check_estimate();
+    CutResult out;
+    out.blocks.joints = js_;
+    arena_.execute([&] {
+      const auto t0 = Clock::now();
+      subdivide();
+      stats_.seconds_cut = seconds_since(t0);
+      const auto t1 = Clock::now();
+      finish();
+      stats_.seconds_finish = seconds_since(t1);
+    });
+    stats_.joints = js_.joints.size();
+    stats_.decisions = referees_.counts();
+    stats_.lps.failed += stats_.decisions.failed;
+    stats_.blocks = blocks_.size();
+    out.blocks.blocks = std::move(blocks_);
+    out.stats = stats_;
+    return out;
+  }
+
+ private:
+  const JointSystem& js_;
+  const CutOptions& opt_;
+  const Progress& progress_;
+  CutContext ctx_;
+  Referees referees_;
+  tbb::task_arena arena_;
+  std::mutex progress_mutex_;
+  std::vector<Block> blocks_;
+  CutStats stats_;
+  Vec3 domain_lo_ = Vec3::Zero(), domain_hi_ = Vec3::Zero();
+
+  void report(std::string_view stage, std::size_t done, std::size_t total) {
+    if (!progress_) return;
+    const std::lock_guard lock(progress_mutex_);
+    progress_(stage, done, total);
+  }
+
+  /// Refuses, before any work, a joint system whose persistent joints alone make more than
+  /// max_blocks blocks.
+  void check_estimate() const {
+    const BlockEstimate e = estimate_blocks(js_);
+    if (e.blocks() <= double(ctx_.max_blocks)) return;
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "its persistent joints make %s%.0f blocks (1 + %lld planes + %.0f lines + %.0f "
+                  "points inside the domain), more than max_blocks = %lld",
+                  e.sampled ? "about " : "", e.blocks(), static_cast<long long>(e.planes), e.lines,
+                  e.points, static_cast<long long>(ctx_.max_blocks));
+    throw Error("/joints", buf, max_blocks_fix());
+  }
+
+  Block domain_block() {
+    const PolytopeInfo info = analyse_polytope(js_.domain.planes, ctx_.tol.geometry);
+    if (!info.bounded || !info.has_interior)
+      throw Error("/domain", "the domain is empty or unbounded", "regenerate it with slice-joints");
+    if (const std::string why = precision_problem(info.min, info.max, ctx_.tol.cut); !why.empty())
+      throw Error("/domain", why, "move the scene nearer the origin or raise its tolerance");
+    domain_lo_ = info.min;
+    domain_hi_ = info.max;
+    Block b;
+    b.origin = info.interior_point;
+    for (const Plane& p : js_.domain.planes) {
+      const Plane l = to_local(p, b.origin);
+      b.faces.push_back({l.normal, l.d, -1});
+    }
+    if (!Subdivision::set_sphere(ctx_, referees_.local().solver(), b, stats_.lps))
+      throw Error("/domain", "the domain's extents LP failed", "check the domain");
+    return b;
+  }
+
+  /// Phase 1 on this thread until there are opt.tasks blocks, then phase 2: the tasks.
+  void subdivide() {
+    const std::size_t joints = js_.joints.size();
+    Subdivision first(ctx_, domain_block(), domain_lo_, domain_hi_);
+    const std::size_t tasks = std::max<std::size_t>(opt_.tasks, 1);
+    std::size_t j = 0;
+    for (; j < joints && (first.blocks.size() < tasks || opt_.tasks == 0); ++j) {
+      const std::size_t before = first.blocks.size();
+      first.cut_by(j, referees_.local());
+      stats_.pairs_skipped += before;
+      if (first.joints_that_cut.empty() || first.joints_that_cut.back() != j)
+        ++stats_.joints_missing;
+      report("cut", j + 1, joints);
+    }
+    collect(first);
+    stats_.pairs_skipped -= first.tested;
+    blocks_ = std::move(first.blocks);
+    if (j < joints) cut_tasks(j);
+  }
+
+  void collect(const Subdivision& s) {
+    add(stats_.lps, s.lps);
+    stats_.splits += s.splits;
+    stats_.splits_undone += s.splits_undone;
+  }
+
+  /// Phase 2: joints [from, J) cut each block of blocks_ as its own task.
+  void cut_tasks(std::size_t from) {
+    const std::size_t joints = js_.joints.size();
+    const std::vector<std::vector<std::size_t>> lists = distribute(from);
+    std::vector<Subdivision> tasks;
+    tasks.reserve(blocks_.size());
+    for (Block& b : blocks_) {
+      const Vec3 r = Vec3::Constant(b.bsphere[3]);
+      const Vec3 c = b.bsphere.head<3>();
+      tasks.emplace_back(ctx_, std::move(b), (c - r).cwiseMax(domain_lo_),
+                         (c + r).cwiseMin(domain_hi_));
+    }
+    std::atomic<std::int64_t> total{std::int64_t(tasks.size())};
+    ctx_.total = &total;
+    std::atomic<std::size_t> done{0};
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, tasks.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t t = range.begin(); t != range.end(); ++t) {
+            Referee& referee = referees_.local();
+            for (const std::size_t j : lists[t]) tasks[t].cut_by(j, referee);
+            report("cut", from + (joints - from) * (done.fetch_add(1) + 1) / tasks.size(), joints);
+          }
+        });
+    ctx_.total = nullptr;
+
+    // Figures: as if one subdivision had run. A joint-block pair is skipped unless the cut LP
+    // saw it; the blocks there were at joint j are those before it plus its earlier splits.
+    std::vector<std::uint8_t> cut(joints - from, 0);
+    std::vector<std::size_t> splits_at(joints - from, 0);
+    for (const Subdivision& s : tasks) {
+      collect(s);
+      stats_.pairs_skipped -= s.tested;
+      for (const std::size_t j : s.joints_that_cut) cut[j - from] = 1;
+      for (const SplitEvent& e : s.events) ++splits_at[e.joint - from];
+    }
+    std::size_t count = tasks.size();
+    for (std::size_t k = 0; k < joints - from; ++k) {
+      stats_.pairs_skipped += count;
+      count += splits_at[k];
+      stats_.joints_missing += cut[k] ? 0 : 1;
+    }
+
+    const auto global = split_order(tasks);
+    blocks_.assign(count, Block{});
+    for (std::size_t t = 0; t < tasks.size(); ++t)
+      for (std::size_t i = 0; i < tasks[t].blocks.size(); ++i)
+        blocks_[global[t][i]] = std::move(tasks[t].blocks[i]);
+  }
+
+  /// Per task (block of blocks_), the joints of [from, J) that may reach it, in order: those
+  /// whose polygon or plane reaches its bounding sphere (its later pieces lie inside its box, so
+  /// no other joint can cut them), and every persistent boundary joint (it also flags the blocks
+  /// it does not reach). Without the index, every joint.
+  std::vector<std::vector<std::size_t>> distribute(std::size_t from) {
+    const std::size_t joints = js_.joints.size();
+    std::vector<std::vector<std::size_t>> lists(blocks_.size());
+    SphereGrid roots;
+    roots.reset(domain_lo_, domain_hi_, blocks_.size() * 2);
+    for (std::size_t t = 0; t < blocks_.size(); ++t) roots.insert(t, blocks_[t].bsphere);
+    std::vector<std::size_t> hits;
+    std::vector<std::uint32_t> stamp(blocks_.size(), 0);
+    for (std::size_t j = from; j < joints; ++j) {
+      const Joint& joint = js_.joints[j];
+      const bool everywhere =
+          !opt_.use_index || (joint.kind == JointKind::boundary && joint.persistent());
+      if (everywhere) {
+        for (auto& l : lists) l.push_back(j);
+        continue;
+      }
+      const PreparedJoint pj = prepare(joint);
+      hits.clear();
+      const auto visit = [&](std::size_t t) {
+        if (stamp[t] == j + 1) return;
+        stamp[t] = std::uint32_t(j + 1);
+        if (may_reach(pj, blocks_[t].bsphere, ctx_.tol.cut)) hits.push_back(t);
+      };
+      if (pj.edges.empty())
+        roots.visit_plane(pj.plane, visit);
+      else
+        roots.visit_box(pj.lo, pj.hi, visit);
+      for (const std::size_t t : hits) lists[t].push_back(j);
+    }
+    return lists;
+  }
 
   void finish() {
-    // Chebyshev centre: the origin of every block, its inradius.
-    std::vector<Face> core;
-    for (std::size_t i = 0; i < blocks_.size(); ++i) {
-      Block& b = blocks_[i];
-      const ChebyshevBall c = chebyshev_ball(solver_, b.faces, tol_);
-      ++stats_.lps.chebyshev;
-      SLICE_ASSERT(c.status == LpStatus::optimal && c.radius > 0);
-      b.inradius = c.radius;
-      move_origin(b, unique_centre(b, c, core));
-      if (progress_ && (i % 1024 == 0 || i + 1 == blocks_.size()))
-        progress_("centres", i + 1, blocks_.size());
-    }
+    // Chebyshev centre: the origin of every block, its inradius. Blocks are independent.
+    std::atomic<std::size_t> done{0};
+    tbb::combinable<LpCounts> lps;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size(), 256),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        LpSolver& solver = referees_.local().solver();
+                        LpCounts& mine = lps.local();
+                        std::vector<Face> core;
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          Block& b = blocks_[i];
+                          const ChebyshevBall c = chebyshev_ball(solver, b.faces, ctx_.tol);
+                          ++mine.chebyshev;
+                          SLICE_ASSERT(c.status == LpStatus::optimal && c.radius > 0);
+                          b.inradius = c.radius;
+                          move_origin(b, unique_centre(b, c, core, solver, mine));
+                        }
+                        const std::size_t n = done += range.size();
+                        report("centres", n, blocks_.size());
+                      });
+    lps.combine_each([&](const LpCounts& c) { add(stats_.lps, c); });
     // Removal zones: blocks whose centre is inside are removed (kept in the file, flagged).
     for (Block& b : blocks_) {
       for (const Region& z : js_.zones) {
@@ -349,20 +620,27 @@ class Cutter {
   // [options] fixed_faces: a block that reaches a named face of the domain's bounding box, to
   // within the geometry tolerance, is fixed. Its extents (six LPs) only when faces are named.
   void mark_fixed() {
-    for (Block& b : blocks_) {
-      const Extents e = extents(solver_, b.faces, tol_);
-      stats_.lps.extents += 6;
-      SLICE_ASSERT(e.status == LpStatus::optimal);  // failed LPs were solved again exactly
-      const Vec3 lo = b.origin + e.min, hi = b.origin + e.max;
-      for (int k = 0; k < 6; ++k) {
-        if (!(js_.options.fixed_faces & (1u << k))) continue;
-        const int axis = k / 2;
-        const bool touches = k % 2 == 0 ? lo[axis] <= domain_lo_[axis] + tol_.geometry
-                                        : hi[axis] >= domain_hi_[axis] - tol_.geometry;
-        if (touches) b.flags |= kFixed;
-      }
-      stats_.fixed += (b.flags & kFixed) ? 1 : 0;
-    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size(), 256),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        LpSolver& solver = referees_.local().solver();
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          Block& b = blocks_[i];
+                          const Extents e = extents(solver, b.faces, ctx_.tol);
+                          // Failed LPs were solved again exactly.
+                          SLICE_ASSERT(e.status == LpStatus::optimal);
+                          const Vec3 lo = b.origin + e.min, hi = b.origin + e.max;
+                          for (int k = 0; k < 6; ++k) {
+                            if (!(js_.options.fixed_faces & (1u << k))) continue;
+                            const int axis = k / 2;
+                            const bool touches =
+                                k % 2 == 0 ? lo[axis] <= domain_lo_[axis] + ctx_.tol.geometry
+                                           : hi[axis] >= domain_hi_[axis] - ctx_.tol.geometry;
+                            if (touches) b.flags |= kFixed;
+                          }
+                        }
+                      });
+    stats_.lps.extents += 6 * blocks_.size();
+    for (const Block& b : blocks_) stats_.fixed += (b.flags & kFixed) ? 1 : 0;
   }
 
   /// The Chebyshev centre is not unique (a box longer than wide has a segment of them) and each
@@ -370,14 +648,15 @@ class Cutter {
   /// the backend. The centre used is the middle of the extents of the "core": the points where
   /// a ball of radius (1 - kCoreShrink) r* fits. That is one point whatever the backend (up to
   /// LP accuracy), and on a segment or a centrally symmetric set of centres, its middle.
-  Vec3 unique_centre(const Block& b, const ChebyshevBall& c, std::vector<Face>& core) {
+  Vec3 unique_centre(const Block& b, const ChebyshevBall& c, std::vector<Face>& core,
+                     LpSolver& solver, LpCounts& lps) const {
     constexpr double kCoreShrink = 1e-6;
     core = b.faces;
     for (Face& f : core) f.d -= (1 - kCoreShrink) * c.radius;
-    const Extents e = extents(solver_, core, tol_);
-    stats_.lps.chebyshev += 6;
+    const Extents e = extents(solver, core, ctx_.tol);
+    lps.chebyshev += 6;
     if (e.status != LpStatus::optimal) {
-      ++stats_.lps.failed;
+      ++lps.failed;
       return c.centre;
     }
     return e.centre;
@@ -389,6 +668,7 @@ class Cutter {
   // block joins no cluster, so nothing kept is joined through one (kept blocks at a slope face
   // would otherwise chain through the removed air blocks into one clump).
   void find_clusters() {
+    Referee& referee = referees_.local();
     std::vector<std::size_t> parent(blocks_.size());
     std::iota(parent.begin(), parent.end(), 0);
     const auto root = [&](std::size_t x) {
@@ -430,7 +710,7 @@ class Cutter {
               merged.push_back(g);
             }
           const Plane plane = to_local(js_.joints[j].plane, ba.origin);
-          const CutTest t = referee_.cut(merged, plane, {});
+          const CutTest t = referee.cut(merged, plane, {});
           ++stats_.lps.contact;
           if (t.status == LpStatus::optimal && t.cuts) parent[root(a.block)] = root(c.block);
         }
@@ -484,33 +764,70 @@ CutResult cut_blocks(const JointSystem& js, const CutOptions& opt, const Progres
   return Cutter(js, opt, progress).run();
 }
 
-PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& progress,
-                        bool certify) {
+PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& progress, bool certify,
+                        int threads) {
   const auto t0 = Clock::now();
   PruneStats st;
   const Tolerances tol =
       Tolerances::from_scale(bs.joints.length_scale, bs.joints.options.tolerance);
-  Referee referee(backend, tol, certify);
-  for (std::size_t i = 0; i < bs.blocks.size(); ++i) {
-    auto& faces = bs.blocks[i].faces;
-    st.faces_before += faces.size();
-    // Against the faces kept so far: of two identical faces, one stays.
-    for (std::size_t f = 0; f < faces.size();) {
-      const FaceRedundancy r = referee.redundancy(faces, f);
-      ++st.lps;
-      if (r.redundant)
-        faces.erase(faces.begin() + std::ptrdiff_t(f));
-      else
-        ++f;  // also when unbounded (the other faces leave the block open there): needed
-    }
-    st.faces_after += faces.size();
-    check_solid(referee.solver(), faces, tol, i);
-    if (progress && (i % 1024 == 0 || i + 1 == bs.blocks.size()))
-      progress("prune", i + 1, bs.blocks.size());
-  }
+  CutOptions opt;
+  opt.backend = backend;
+  opt.threads = threads;
+  Referees referees(backend, tol, certify);
+  tbb::task_arena arena(threads_for(opt));
+  // Blocks are independent. The first error in block order is the one reported, whatever the
+  // thread that met it (the others are dropped).
+  std::mutex mutex;
+  std::size_t failed_at = bs.blocks.size();
+  std::exception_ptr failure;
+  std::atomic<std::size_t> done{0};
+  tbb::combinable<PruneStats> partial;
+  arena.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, bs.blocks.size(), 64),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          Referee& referee = referees.local();
+          PruneStats& mine = partial.local();
+          for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            try {
+              auto& faces = bs.blocks[i].faces;
+              mine.faces_before += faces.size();
+              // Against the faces kept so far: of two identical faces, one stays.
+              for (std::size_t f = 0; f < faces.size();) {
+                const FaceRedundancy r = referee.redundancy(faces, f);
+                ++mine.lps;
+                if (r.redundant)
+                  faces.erase(faces.begin() + std::ptrdiff_t(f));
+                else
+                  ++f;  // also when unbounded (the other faces leave the block open there)
+              }
+              mine.faces_after += faces.size();
+              check_solid(referee.solver(), faces, tol, i);
+            } catch (...) {
+              const std::lock_guard lock(mutex);
+              if (i < failed_at) {
+                failed_at = i;
+                failure = std::current_exception();
+              }
+              return;
+            }
+          }
+          const std::size_t n = done += range.size();
+          if (progress) {
+            const std::lock_guard lock(mutex);
+            progress("prune", n, bs.blocks.size());
+          }
+        });
+  });
+  if (failure) std::rethrow_exception(failure);
+  partial.combine_each([&](const PruneStats& p) {
+    st.faces_before += p.faces_before;
+    st.faces_after += p.faces_after;
+    st.lps += p.lps;
+  });
   bs.pruned = true;
   bs.geometry.reset();  // faces changed: vertices and loops no longer match
-  st.decisions = referee.counts();
+  st.decisions = referees.counts();
   st.failed = st.decisions.failed;
   st.seconds = seconds_since(t0);
   return st;

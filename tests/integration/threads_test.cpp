@@ -1,0 +1,60 @@
+// Issue 15: the tools' --threads changes no byte of their output and no figure they report.
+#include <catch2/catch.hpp>
+#include <regex>
+#include <string>
+
+#include "support/pipeline.hpp"
+#include "support/support.hpp"
+
+namespace {
+
+// The report with its times (the only figures that may differ) replaced by "T".
+std::string without_times(const std::string& report) {
+  static const std::regex seconds(R"([0-9]+\.[0-9]+ s\b)");
+  return std::regex_replace(report, seconds, "T s");
+}
+
+}  // namespace
+
+TEST_CASE("slice-cut and slice-prune give the same bytes and figures on 1 and 2 threads",
+          "[tools][threads]") {
+  for (const char* scene : {"table3-lognormal.toml", "slope.toml", "table3-persistent.toml"}) {
+    CAPTURE(scene);
+    test::TempDir tmp;
+    const std::string joints = test::run_pipeline(tmp, scene, test::Stage::joints);
+    std::string bytes[2], report[2], pruned[2];
+    for (int threads = 1; threads <= 2; ++threads) {
+      CAPTURE(threads);
+      // The same output names for both: a file records its command line (without --threads).
+      const std::string out = (tmp / "blocks.h5").string();
+      const std::string prune_out = (tmp / "pruned.h5").string();
+      test::fs::remove(out);
+      test::fs::remove(prune_out);
+      const auto cut = test::run_tool(
+          "slice-cut", {joints, "--prune", "--threads", std::to_string(threads), "-o", out});
+      REQUIRE(cut.exit_code == 0);
+      bytes[threads - 1] = test::read_bytes(out);
+      report[threads - 1] = without_times(cut.err);
+      const auto prune = test::run_tool(
+          "slice-prune", {out, "--threads=" + std::to_string(threads), "-o", prune_out});
+      REQUIRE(prune.exit_code == 0);
+      pruned[threads - 1] = test::read_bytes(prune_out) + without_times(prune.err);
+    }
+    CHECK(bytes[0] == bytes[1]);
+    CHECK(report[0] == report[1]);
+    CHECK_THAT(report[0], Catch::Contains("blocks") && Catch::Contains("time: cut T s"));
+    CHECK(pruned[0] == pruned[1]);
+    CHECK_THAT(pruned[0], Catch::Contains("LPs"));
+  }
+}
+
+TEST_CASE("--threads must be a positive number", "[tools][threads]") {
+  test::TempDir tmp;
+  const std::string joints = test::run_pipeline(tmp, "cube-3sets.toml", test::Stage::joints);
+  for (const char* bad : {"0", "-2", "many"}) {
+    const auto r =
+        test::run_tool("slice-cut", {joints, "--threads", bad, "-o", (tmp / "b.h5").string()});
+    CHECK(r.exit_code == 1);
+    CHECK_FALSE(test::fs::exists(tmp / "b.h5"));
+  }
+}
