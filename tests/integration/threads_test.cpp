@@ -48,7 +48,7 @@ TEST_CASE("slice-cut and slice-prune give the same bytes and figures on 1 and 2 
   }
 }
 
-TEST_CASE("--threads must be a positive number", "[tools][threads]") {
+TEST_CASE("slice-cut refuses --threads that is not a positive number", "[tools][threads]") {
   test::TempDir tmp;
   const std::string joints = test::run_pipeline(tmp, "cube-3sets.toml", test::Stage::joints);
   for (const char* bad : {"0", "-2", "many"}) {
