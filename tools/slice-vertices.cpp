@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   t.cli.add_flag("--prune", prune, "prune the blocks first if they are not (as slice-prune does)");
   t.cli.add_option("--lp", backend, "LP backend for --prune: native | ipopt | exact")
       ->capture_default_str();
+  t.add_threads_option();
   return t.run(argc, argv, [&] {
     tool::check_distinct_paths({{"blocks", in, false}, {"-o", out}});
     slice::BlockSystem bs = slice::read_blocks(in);
@@ -28,11 +29,12 @@ int main(int argc, char** argv) {
       throw slice::Error(in, "the blocks are not pruned (/blocks attribute pruned is 0)",
                          "run slice-prune on it first, or pass --prune");
     if (!bs.pruned) {
-      const auto ps = slice::prune_blocks(bs, slice::parse_lp_backend(backend), t.progress());
+      const auto ps =
+          slice::prune_blocks(bs, slice::parse_lp_backend(backend), t.progress(), false, t.threads);
       t.say("pruned: faces " + std::to_string(ps.faces_before) + " -> " +
             std::to_string(ps.faces_after) + " (" + tool::fixed(ps.seconds, 3) + " s)");
     }
-    const slice::GeometryStats s = slice::compute_geometry(bs, t.progress());
+    const slice::GeometryStats s = slice::compute_geometry(bs, t.progress(), t.threads);
     slice::write_blocks(out, bs, t.provenance(in));
     const double us = s.blocks ? 1e6 * s.seconds / double(s.blocks) : 0;
     t.say(std::to_string(s.blocks) + " blocks, " + std::to_string(s.vertices) + " vertices, " +

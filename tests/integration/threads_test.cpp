@@ -10,19 +10,20 @@ namespace {
 
 // The report with its times (the only figures that may differ) replaced by "T".
 std::string without_times(const std::string& report) {
-  static const std::regex seconds(R"([0-9]+\.[0-9]+ s\b)");
+  static const std::regex seconds(R"([0-9]+\.[0-9]+ u?s\b)");
   return std::regex_replace(report, seconds, "T s");
 }
 
 }  // namespace
 
-TEST_CASE("slice-cut and slice-prune give the same bytes and figures on 1 and 2 threads",
-          "[tools][threads]") {
+TEST_CASE(
+    "slice-cut, slice-prune and slice-vertices give the same bytes and figures on 1 and 2 threads",
+    "[tools][threads]") {
   for (const char* scene : {"table3-lognormal.toml", "slope.toml", "table3-persistent.toml"}) {
     CAPTURE(scene);
     test::TempDir tmp;
     const std::string joints = test::run_pipeline(tmp, scene, test::Stage::joints);
-    std::string bytes[2], report[2], pruned[2];
+    std::string bytes[2], report[2], pruned[2], geom[2];
     for (int threads = 1; threads <= 2; ++threads) {
       CAPTURE(threads);
       // The same output names for both: a file records its command line (without --threads).
@@ -39,12 +40,20 @@ TEST_CASE("slice-cut and slice-prune give the same bytes and figures on 1 and 2 
           "slice-prune", {out, "--threads=" + std::to_string(threads), "-o", prune_out});
       REQUIRE(prune.exit_code == 0);
       pruned[threads - 1] = test::read_bytes(prune_out) + without_times(prune.err);
+      const std::string geom_out = (tmp / "geom.h5").string();
+      test::fs::remove(geom_out);
+      const auto vertices = test::run_tool(
+          "slice-vertices", {out, "--threads", std::to_string(threads), "-o", geom_out});
+      REQUIRE(vertices.exit_code == 0);
+      geom[threads - 1] = test::read_bytes(geom_out) + without_times(vertices.err);
     }
     CHECK(bytes[0] == bytes[1]);
     CHECK(report[0] == report[1]);
     CHECK_THAT(report[0], Catch::Contains("blocks") && Catch::Contains("time: cut T s"));
     CHECK(pruned[0] == pruned[1]);
     CHECK_THAT(pruned[0], Catch::Contains("LPs"));
+    CHECK(geom[0] == geom[1]);
+    CHECK_THAT(geom[0], Catch::Contains("vertices T s"));
   }
 }
 

@@ -68,7 +68,8 @@ struct GeometryStats {
 
 /// Computes bs.geometry for every block (removed blocks too, so volumes add up to the domain).
 /// The blocks must be pruned (bs.pruned): a redundant face has no polygon. Throws Error if not,
-/// or if a block has a face without area (block_geometry).
-GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress = {});
+/// or if a block has a face without area (block_geometry). `threads`: 0 for all cores; the
+/// result and the error reported are the same for every count.
+GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress = {}, int threads = 0);
 
 }  // namespace slice

@@ -1,12 +1,17 @@
 #include "slice/vertices.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <oneapi/tbb/info.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_group.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <string>
 
 #include "slice/error.hpp"
@@ -322,7 +327,49 @@ BlockGeometry block_geometry(const Block& b, const JointSystem& js, const Tolera
   return g;
 }
 
-GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress) {
+namespace {
+
+/// Appends block i's geometry to geo (block-local vertex numbers, as the file stores them).
+void append(Geometry& geo, const BlockGeometry& g, GeometryStats& st) {
+  geo.vertices.insert(geo.vertices.end(), g.vertices.begin(), g.vertices.end());
+  geo.vertex_offset.push_back(std::int64_t(geo.vertices.size()));
+  for (std::size_t f = 0; f < g.loops.size(); ++f) {
+    geo.face_vertices.insert(geo.face_vertices.end(), g.loops[f].begin(), g.loops[f].end());
+    geo.face_vertex_offset.push_back(std::int64_t(geo.face_vertices.size()));
+    geo.face_area.push_back(g.face_area[f]);
+    geo.face_joint_fraction.push_back(g.face_joint_fraction[f]);
+  }
+  geo.volume.push_back(g.volume);
+  geo.centroid.push_back(g.centroid);
+  geo.inertia.push_back(g.inertia);
+  st.vertices += g.vertices.size();
+  st.faces += g.loops.size();
+}
+
+/// Appends `part` (blocks made by append into an empty Geometry) to geo.
+void append(Geometry& geo, const Geometry& part) {
+  const std::int64_t v0 = std::int64_t(geo.vertices.size());
+  const std::int64_t fv0 = std::int64_t(geo.face_vertices.size());
+  geo.vertices.insert(geo.vertices.end(), part.vertices.begin(), part.vertices.end());
+  for (std::size_t i = 1; i < part.vertex_offset.size(); ++i)
+    geo.vertex_offset.push_back(v0 + part.vertex_offset[i]);
+  geo.face_vertices.insert(geo.face_vertices.end(), part.face_vertices.begin(),
+                           part.face_vertices.end());
+  for (std::size_t i = 1; i < part.face_vertex_offset.size(); ++i)
+    geo.face_vertex_offset.push_back(fv0 + part.face_vertex_offset[i]);
+  const auto tail = [](auto& to, const auto& from) {
+    to.insert(to.end(), from.begin(), from.end());
+  };
+  tail(geo.face_area, part.face_area);
+  tail(geo.face_joint_fraction, part.face_joint_fraction);
+  tail(geo.volume, part.volume);
+  tail(geo.centroid, part.centroid);
+  tail(geo.inertia, part.inertia);
+}
+
+}  // namespace
+
+GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress, int threads) {
   const auto t0 = Clock::now();
   if (!bs.pruned)
     throw Error("/blocks attribute pruned",
@@ -336,23 +383,64 @@ GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress) {
   geo.centroid.reserve(n);
   geo.inertia.reserve(n);
   GeometryStats st;
-  for (std::size_t i = 0; i < n; ++i) {
-    const BlockGeometry g = block_geometry(bs.blocks[i], bs.joints, tol, i);
-    geo.vertices.insert(geo.vertices.end(), g.vertices.begin(), g.vertices.end());
-    geo.vertex_offset.push_back(std::int64_t(geo.vertices.size()));
-    for (std::size_t f = 0; f < g.loops.size(); ++f) {
-      geo.face_vertices.insert(geo.face_vertices.end(), g.loops[f].begin(), g.loops[f].end());
-      geo.face_vertex_offset.push_back(std::int64_t(geo.face_vertices.size()));
-      geo.face_area.push_back(g.face_area[f]);
-      geo.face_joint_fraction.push_back(g.face_joint_fraction[f]);
+  // Blocks are independent: chunks of them are computed concurrently (oneTBB), a wave of chunks
+  // at a time, while the wave before is appended in block order. So the result is the same for
+  // every thread count and at most two waves are held twice. The first error in block order is
+  // the one reported.
+  constexpr std::size_t kChunk = 512, kWave = 64;
+  const int cores = tbb::info::default_concurrency();
+  tbb::task_arena arena(threads > 0 ? std::min(threads, cores) : cores);
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  struct Wave {
+    std::vector<Geometry> parts;
+    std::vector<GeometryStats> stats;
+    std::vector<std::exception_ptr> failure;
+  };
+  const auto compute = [&](std::size_t w0, Wave& wave) {
+    const std::size_t count = std::min(chunks, w0 + kWave) - w0;
+    wave.parts.assign(count, Geometry{});
+    wave.stats.assign(count, GeometryStats{});
+    wave.failure.assign(count, nullptr);
+    tbb::parallel_for(std::size_t(0), count, [&](std::size_t c) {
+      const std::size_t lo = (w0 + c) * kChunk, hi = std::min(n, lo + kChunk);
+      try {
+        for (std::size_t i = lo; i < hi; ++i)
+          append(wave.parts[c], block_geometry(bs.blocks[i], bs.joints, tol, i), wave.stats[c]);
+      } catch (...) {
+        wave.failure[c] = std::current_exception();
+      }
+    });
+  };
+  // Appends a wave; false (and the error kept) at its first failed chunk.
+  std::exception_ptr failure;
+  const auto gather = [&](Wave& wave) {
+    for (std::size_t c = 0; c < wave.parts.size(); ++c) {
+      if (wave.failure[c]) {
+        failure = wave.failure[c];
+        return false;
+      }
+      append(geo, wave.parts[c]);
+      st.vertices += wave.stats[c].vertices;
+      st.faces += wave.stats[c].faces;
     }
-    geo.volume.push_back(g.volume);
-    geo.centroid.push_back(g.centroid);
-    geo.inertia.push_back(g.inertia);
-    st.vertices += g.vertices.size();
-    st.faces += g.loops.size();
-    if (progress && (i % 1024 == 0 || i + 1 == n)) progress("vertices", i + 1, n);
-  }
+    wave = Wave{};
+    return true;
+  };
+  Wave ready, next;
+  arena.execute([&] {
+    for (std::size_t w0 = 0; w0 < chunks; w0 += kWave) {
+      bool ok = true;
+      tbb::task_group group;
+      group.run([&] { ok = gather(ready); });
+      compute(w0, next);
+      group.wait();
+      if (!ok) return;
+      std::swap(ready, next);
+      if (progress) progress("vertices", std::min(n, (w0 + kWave) * kChunk), n);
+    }
+    gather(ready);
+  });
+  if (failure) std::rethrow_exception(failure);
   st.blocks = n;
   bs.geometry = std::move(geo);
   st.seconds = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -49,6 +49,16 @@ std::string at(const std::string& dataset, std::size_t row) {
   return dataset + " row " + std::to_string(row);
 }
 
+/// A row of a dataset, made into text only if a check fails: the checks run on every row of
+/// files of millions of blocks, where building the label each time cost more than the check.
+struct At {
+  const char* dataset;
+  std::size_t row;
+  const char* suffix = "";
+};
+std::string text(const At& a) { return at(a.dataset, a.row) + a.suffix; }
+const std::string& text(const std::string& s) { return s; }
+
 std::string str(std::int64_t v) { return std::to_string(v); }
 std::string str(std::size_t v) { return std::to_string(v); }
 
@@ -65,29 +75,34 @@ class Checker {
   Checker(std::string where, std::string fix) : where_(std::move(where)), fix_(std::move(fix)) {}
   [[noreturn]] void fail(const std::string& what) const { throw Error(where_, what, fix_); }
 
-  void finite(double v, const std::string& label) const {
-    if (!std::isfinite(v)) fail(label + " is " + num(v));
+  template <class Label>
+  void finite(double v, const Label& label) const {
+    if (!std::isfinite(v)) fail(text(label) + " is " + num(v));
   }
-  template <int N>
-  void finite(const Eigen::Matrix<double, N, 1>& v, const std::string& label) const {
-    if (!v.allFinite()) fail(label + " is " + row_text(v.data(), N));
+  template <int N, class Label>
+  void finite(const Eigen::Matrix<double, N, 1>& v, const Label& label) const {
+    if (!v.allFinite()) fail(text(label) + " is " + row_text(v.data(), N));
   }
-  void unit(const Vec3& n, const std::string& label) const {
+  template <class Label>
+  void unit(const Vec3& n, const Label& label) const {
     finite(n, label);
     if (std::abs(n.norm() - 1) > kUnitTolerance)
-      fail(label + " is " + row_text(n.data(), 3) + ", not a unit vector (length " + num(n.norm()) +
-           ")");
+      fail(text(label) + " is " + row_text(n.data(), 3) + ", not a unit vector (length " +
+           num(n.norm()) + ")");
   }
-  void non_negative(double v, const std::string& label) const {
+  template <class Label>
+  void non_negative(double v, const Label& label) const {
     finite(v, label);
-    if (v < 0) fail(label + " is " + num(v) + "; it cannot be negative");
+    if (v < 0) fail(text(label) + " is " + num(v) + "; it cannot be negative");
   }
-  void side(std::int64_t v, const std::string& label) const {
-    if (v < -1 || v > 1) fail(label + " is " + str(v) + "; expected -1, 0 or 1");
+  template <class Label>
+  void side(std::int64_t v, const Label& label) const {
+    if (v < -1 || v > 1) fail(text(label) + " is " + str(v) + "; expected -1, 0 or 1");
   }
-  void kind(JointKind k, const std::string& label) const {
+  template <class Label>
+  void kind(JointKind k, const Label& label) const {
     if (static_cast<std::size_t>(k) >= kJointKindNames.size())
-      fail(label + " is " + std::to_string(static_cast<unsigned>(k)) +
+      fail(text(label) + " is " + std::to_string(static_cast<unsigned>(k)) +
            "; expected 0 (rock), 1 (construction) or 2 (boundary)");
   }
 
@@ -114,26 +129,26 @@ void check_joints(const Checker& c, const JointSystem& js) {
   std::size_t uv_row = 0;
   for (std::size_t i = 0; i < js.joints.size(); ++i) {
     const Joint& j = js.joints[i];
-    c.unit(j.plane.normal, at("/joints/normal", i));
-    c.finite(j.plane.d, at("/joints/d", i));
-    c.finite(j.centre, at("/joints/centre", i));
-    c.finite(j.dip_deg, at("/joints/dip", i));
-    c.finite(j.dip_direction_deg, at("/joints/dip_direction", i));
-    c.kind(j.kind, at("/joints/kind", i));
+    c.unit(j.plane.normal, At{"/joints/normal", i});
+    c.finite(j.plane.d, At{"/joints/d", i});
+    c.finite(j.centre, At{"/joints/centre", i});
+    c.finite(j.dip_deg, At{"/joints/dip", i});
+    c.finite(j.dip_direction_deg, At{"/joints/dip_direction", i});
+    c.kind(j.kind, At{"/joints/kind", i});
     if (j.set < -1 || j.set >= sets)
       c.fail(at("/joints/set", i) + " is " + str(std::int64_t{j.set}) +
              "; expected -1 (deterministic) or a set index below " + str(sets) +
              " (the groups of /sets)");
-    c.finite(j.friction_angle_deg, at("/joints/friction_angle", i));
-    c.finite(j.cohesion, at("/joints/cohesion", i));
-    c.side(j.boundary_side, at("/joints/boundary_side", i));
+    c.finite(j.friction_angle_deg, At{"/joints/friction_angle", i});
+    c.finite(j.cohesion, At{"/joints/cohesion", i});
+    c.side(j.boundary_side, At{"/joints/boundary_side", i});
     if (j.kind == JointKind::boundary && j.boundary_side == 0)
       c.fail(at("/joints/boundary_side", i) + " is 0 for a boundary joint; expected -1 (keep " +
              "below) or 1 (keep above)");
     if (j.polygon_uv.size() == 1 || j.polygon_uv.size() == 2)
       c.fail("/joints/polygon_offset gives joint " + str(i) + " a polygon of " +
              str(j.polygon_uv.size()) + " vertices; expected none (persistent) or at least 3");
-    for (const Vec2& uv : j.polygon_uv) c.finite(uv, at("/joints/polygon_uv", uv_row++));
+    for (const Vec2& uv : j.polygon_uv) c.finite(uv, At{"/joints/polygon_uv", uv_row++});
   }
 
   for (std::size_t i = 0; i < js.sets.size(); ++i) {
@@ -261,7 +276,7 @@ void check_geometry(const Checker& c, const BlockSystem& bs) {
   rows("face_joint_fraction", g.face_joint_fraction.size(), faces, "faces");
 
   for (std::size_t v = 0; v < g.vertices.size(); ++v)
-    c.finite(g.vertices[v], at("/geometry/vertices", v));
+    c.finite(g.vertices[v], At{"/geometry/vertices", v});
   const double tol = vertex_tolerance(bs);
   std::size_t face = 0;
   for (std::size_t b = 0; b < n; ++b) {
@@ -277,7 +292,7 @@ void check_geometry(const Checker& c, const BlockSystem& bs) {
         if (g.face_vertices[k] < 0 || g.face_vertices[k] >= nv)
           c.fail(at("/geometry/face_vertices", k) + " is " + str(g.face_vertices[k]) +
                  "; expected an index into block " + str(b) + "'s " + str(nv) + " vertices");
-      c.finite(g.face_area[face], at("/geometry/face_area", face));
+      c.finite(g.face_area[face], At{"/geometry/face_area", face});
       if (!(g.face_area[face] > 0))
         c.fail(at("/geometry/face_area", face) + " is " + num(g.face_area[face]) +
                "; a face has positive area");
@@ -287,11 +302,11 @@ void check_geometry(const Checker& c, const BlockSystem& bs) {
                "; expected a fraction in [0, 1]");
     }
     check_vertices_on_faces(c, bs, b, first_face, tol);
-    c.finite(g.volume[b], at("/geometry/volume", b));
+    c.finite(g.volume[b], At{"/geometry/volume", b});
     if (!(g.volume[b] > 0))
       c.fail(at("/geometry/volume", b) + " is " + num(g.volume[b]) +
              "; a block has positive volume");
-    c.finite(g.centroid[b], at("/geometry/centroid", b));
+    c.finite(g.centroid[b], At{"/geometry/centroid", b});
     for (const double x : g.inertia[b])
       if (!std::isfinite(x))
         c.fail(at("/geometry/inertia", b) + " is " + row_text(g.inertia[b].data(), 6));
@@ -304,19 +319,19 @@ void check_blocks(const Checker& c, const BlockSystem& bs) {
   std::size_t face_row = 0;
   for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
     const Block& blk = bs.blocks[b];
-    c.finite(blk.origin, at("/blocks/origin", b));
+    c.finite(blk.origin, At{"/blocks/origin", b});
     for (const Face& f : blk.faces) {
-      c.unit(f.normal, at("/blocks/face_normal", face_row));
-      c.finite(f.d, at("/blocks/face_d", face_row));
+      c.unit(f.normal, At{"/blocks/face_normal", face_row});
+      c.finite(f.d, At{"/blocks/face_d", face_row});
       if (f.joint < -1 || f.joint >= joints)
         c.fail(at("/blocks/face_joint", face_row) + " is " + str(f.joint) +
                "; expected -1 (domain face) or a joint index below " + str(joints) +
                " (the rows of /joints/normal)");
       ++face_row;
     }
-    c.non_negative(blk.inradius, at("/blocks/inradius", b));
-    c.finite(blk.bsphere, at("/blocks/bsphere", b));
-    c.non_negative(blk.bsphere[3], at("/blocks/bsphere", b) + " radius");
+    c.non_negative(blk.inradius, At{"/blocks/inradius", b});
+    c.finite(blk.bsphere, At{"/blocks/bsphere", b});
+    c.non_negative(blk.bsphere[3], At{"/blocks/bsphere", b, " radius"});
     if (blk.cluster < -1)
       c.fail(at("/blocks/cluster", b) + " is " + str(blk.cluster) +
              "; expected -1 (none) or a cluster id");
