@@ -163,3 +163,36 @@ TEST_CASE("slice-export vtu: reruns give the same bytes; bad input is refused",
     CHECK_THAT(r.err, Contains("does not exist"));
   }
 }
+
+TEST_CASE("slice-export vtu: every compressor reads back the same; an unknown one is refused",
+          "[tools][export][vtu]") {
+  test::TempDir tmp;
+  const auto geom = test::run_pipeline(tmp, "rock-slope.toml", test::Stage::geometry);
+  std::vector<double> volumes[3];
+  const char* names[] = {"lz4", "zlib", "none"};
+  const char* classes[] = {"vtkLZ4DataCompressor", "vtkZLibDataCompressor", nullptr};
+  for (int k = 0; k < 3; ++k) {
+    CAPTURE(names[k]);
+    const std::string vtu = (tmp / (std::string(names[k]) + ".vtu")).string();
+    const auto r = run_tool("slice-export", {geom, "-o", vtu, "--vtu-compressor", names[k]});
+    REQUIRE(r.exit_code == 0);
+    const std::string bytes = test::read_bytes(vtu);
+    const auto header = bytes.substr(0, 400);
+    if (classes[k])
+      CHECK_THAT(header, Contains(std::string("compressor=\"") + classes[k]));
+    else
+      CHECK_THAT(header, !Contains("compressor="));
+    const auto grid = read_vtu(vtu);
+    auto* v = grid->GetCellData()->GetArray("volume");
+    REQUIRE(v != nullptr);
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) volumes[k].push_back(v->GetTuple1(c));
+  }
+  CHECK(volumes[0].size() > 10);
+  CHECK(volumes[0] == volumes[1]);
+  CHECK(volumes[0] == volumes[2]);
+  const auto r =
+      run_tool("slice-export", {geom, "-o", (tmp / "x.vtu").string(), "--vtu-compressor", "lzma"});
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Contains("--vtu-compressor") && Contains("lzma") && Contains("lz4"));
+  CHECK_FALSE(test::fs::exists(tmp / "x.vtu"));
+}

@@ -48,8 +48,9 @@ vtkNew<Array> named_array(const char* name, std::size_t rows) {
   return a;
 }
 
-/// Writes `grid` to out atomically: binary appended data, zlib, 64-bit headers.
-void write_grid(const std::filesystem::path& out, vtkUnstructuredGrid* grid) {
+/// Writes `grid` to out atomically: binary appended data, compressed, 64-bit headers.
+void write_grid(const std::filesystem::path& out, vtkUnstructuredGrid* grid,
+                VtuCompressor compressor) {
   PartialFile part(out);
   {
     const QuietVtk quiet;
@@ -58,7 +59,17 @@ void write_grid(const std::filesystem::path& out, vtkUnstructuredGrid* grid) {
     w->SetInputData(grid);
     w->SetDataModeToAppended();
     w->EncodeAppendedDataOff();  // raw binary, not base64
-    w->SetCompressorTypeToZLib();
+    switch (compressor) {
+      case VtuCompressor::lz4:
+        w->SetCompressorTypeToLZ4();
+        break;
+      case VtuCompressor::zlib:
+        w->SetCompressorTypeToZLib();
+        break;
+      case VtuCompressor::none:
+        w->SetCompressorTypeToNone();
+        break;
+    }
     w->SetHeaderTypeToUInt64();
     w->SetIdTypeToInt64();
     if (w->Write() != 1 || w->GetErrorCode() != vtkErrorCode::NoError)
@@ -72,7 +83,15 @@ void write_grid(const std::filesystem::path& out, vtkUnstructuredGrid* grid) {
 
 }  // namespace
 
-VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& bs) {
+VtuCompressor parse_vtu_compressor(const std::string& text, const std::string& option) {
+  if (text == "lz4") return VtuCompressor::lz4;
+  if (text == "zlib") return VtuCompressor::zlib;
+  if (text == "none") return VtuCompressor::none;
+  throw Error(option, "is \"" + text + "\"", "use lz4 (fast), zlib (small) or none");
+}
+
+VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& bs,
+                          VtuCompressor compressor) {
   if (!bs.geometry)
     throw Error(out.string(), "the blocks have no vertices (no /geometry)",
                 "run slice-vertices on the blocks file first");
@@ -138,13 +157,14 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
         static_cast<vtkAbstractArray*>(aspect.Get())})
     grid->GetCellData()->AddArray(a);
   grid->GetCellData()->SetActiveScalars("volume");
-  write_grid(out, grid);
+  write_grid(out, grid, compressor);
   st.cells = std::size_t(cell);
   st.points = std::size_t(points->GetNumberOfPoints());
   return st;
 }
 
-VtuStats write_joints_vtu(const std::filesystem::path& out, const JointSystem& js) {
+VtuStats write_joints_vtu(const std::filesystem::path& out, const JointSystem& js,
+                          VtuCompressor compressor) {
   const double tol = js.options.tolerance * js.length_scale;
   const PolytopeInfo dom = analyse_polytope(js.domain.planes, tol);
   if (!dom.bounded || !dom.has_interior)
@@ -209,7 +229,7 @@ VtuStats write_joints_vtu(const std::filesystem::path& out, const JointSystem& j
         static_cast<vtkAbstractArray*>(friction.Get()),
         static_cast<vtkAbstractArray*>(cohesion.Get())})
     grid->GetCellData()->AddArray(a);
-  write_grid(out, grid);
+  write_grid(out, grid, compressor);
   st.cells = rows.size();
   st.points = std::size_t(points->GetNumberOfPoints());
   return st;
