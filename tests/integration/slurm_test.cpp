@@ -74,7 +74,7 @@ TEST_CASE("the workflow runs a 3-seed sweep on a single-node SLURM cluster",
   test::write_text(tmp / "config.yaml", "scenes:\n  sweep: " + scene.string() +
                                             "\nseeds: 3\nout: " + (tmp / "out").string() +
                                             "\ntools: " + SLICE_TOOLS_DIR +
-                                            "\nexports: []\nplots: false\nsummary: true\n");
+                                            "\nexports: []\nplots: false\nsummary: true\nthreads: 1\n");
   const path log = tmp / "snakemake.log";
   const int code = test::run_shell(
       "cd " + test::shell_quote(tmp.path()) + " && " + cluster.env() + "snakemake -s " +
