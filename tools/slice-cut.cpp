@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
                   "max_blocks, itself 2,000,000 by default)")
       ->check(CLI::PositiveNumber);
   t.add_threads_option();
+  t.add_compress_option();
   return t.run(argc, argv, [&] {
     tool::check_distinct_paths({{"joints", in, false}, {"-o", out}, {"--stats", stats_file}});
     slice::CutOptions opt;
@@ -47,7 +48,7 @@ int main(int argc, char** argv) {
     if (prune) ps = slice::prune_blocks(r.blocks, opt.backend, t.progress(), certify, t.threads);
     slice::DecisionCounts d = s.decisions;
     d += ps.decisions;
-    slice::write_blocks(out, r.blocks, t.provenance(in));
+    slice::write_blocks(out, r.blocks, t.provenance(in), t.write_options());
     if (!stats_file.empty()) {
       std::size_t faces = 0;
       for (const auto& b : r.blocks.blocks) faces += b.faces.size();

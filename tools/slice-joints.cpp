@@ -21,12 +21,13 @@ int main(int argc, char** argv) {
                   "seed of the random joint sets, in place of the scene's [scene] seed (for "
                   "realization sweeps: joints.h5 records the seed used)")
       ->check(CLI::NonNegativeNumber);
+  t.add_compress_option();
   return t.run(argc, argv, [&] {
     tool::check_distinct_paths({{"scene", scene_file, false}, {"-o", out}});
     slice::Scene scene = slice::load_scene(scene_file);
     if (seed) scene.seed = static_cast<std::uint64_t>(*seed);
     const slice::JointSystem js = slice::generate_joints(scene);
-    slice::write_joints(out, js, t.provenance(scene_file));
+    slice::write_joints(out, js, t.provenance(scene_file), t.write_options());
     std::size_t persistent = 0;
     for (const auto& j : js.joints) persistent += j.persistent() ? 1 : 0;
     t.say(std::to_string(js.joints.size()) + " joints (" + std::to_string(persistent) +

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
                  "decide again with the exact backend every redundancy decision that lies within "
                  "the tolerance of its threshold");
   t.add_threads_option();
+  t.add_compress_option();
   return t.run(argc, argv, [&] {
     // Without -o the input is replaced (atomically); -o naming the input is refused like every
     // other clash, so a script's typo is caught.
@@ -25,7 +26,7 @@ int main(int argc, char** argv) {
     slice::BlockSystem bs = slice::read_blocks(in);
     const slice::PruneStats s = slice::prune_blocks(bs, lp, t.progress(), certify, t.threads);
     const std::string target = out.empty() ? in : out;
-    slice::write_blocks(target, bs, t.provenance(in));
+    slice::write_blocks(target, bs, t.provenance(in), t.write_options());
     t.say(std::to_string(bs.blocks.size()) + " blocks: faces " + std::to_string(s.faces_before) +
           " -> " + std::to_string(s.faces_after) + " (" + std::to_string(s.lps) + " LPs, " +
           std::to_string(s.failed) + " failed, " + std::to_string(s.decisions.resolved) +

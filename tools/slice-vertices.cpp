@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   t.cli.add_option("--lp", backend, "LP backend for --prune: native | ipopt | exact")
       ->capture_default_str();
   t.add_threads_option();
+  t.add_compress_option();
   return t.run(argc, argv, [&] {
     tool::check_distinct_paths({{"blocks", in, false}, {"-o", out}});
     slice::BlockSystem bs = slice::read_blocks(in);
@@ -35,7 +36,7 @@ int main(int argc, char** argv) {
             std::to_string(ps.faces_after) + " (" + tool::fixed(ps.seconds, 3) + " s)");
     }
     const slice::GeometryStats s = slice::compute_geometry(bs, t.progress(), t.threads);
-    slice::write_blocks(out, bs, t.provenance(in));
+    slice::write_blocks(out, bs, t.provenance(in), t.write_options());
     const double us = s.blocks ? 1e6 * s.seconds / double(s.blocks) : 0;
     t.say(std::to_string(s.blocks) + " blocks, " + std::to_string(s.vertices) + " vertices, " +
           std::to_string(s.faces) + " faces -> " + out);

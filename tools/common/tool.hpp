@@ -26,6 +26,12 @@ class Tool {
   bool verbose = false;
   int threads = 0;  // --threads, where the tool offers it (add_threads_option); 0: all cores
 
+  bool compress = false;  // --compress, where the tool writes HDF5 (add_compress_option)
+
+  /// Adds --compress: the HDF5 output's datasets deflated (WriteOptions::compress).
+  void add_compress_option();
+  slice::WriteOptions write_options() const { return {compress}; }
+
   /// Adds --threads N. It changes no result, so the command line stored in the output's
   /// provenance leaves it out: the file is the same bytes for every thread count.
   void add_threads_option();

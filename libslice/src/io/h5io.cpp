@@ -537,10 +537,10 @@ void write_geometry_group(const Group& root, const Geometry& geo) {
 // Validates, then writes to "<out>.partial" and renames it onto `out`.
 template <class Body>
 void write_file(const fs::path& out, FileKind kind, const Provenance& prov, const JointSystem& js,
-                const Body& body) {
+                const WriteOptions& opt, const Body& body) {
   const std::string name = out.string();
   PartialFile part(out);
-  h5::File f = h5::File::create(part.path(), {name, kWriteFix});
+  h5::File f = h5::File::create(part.path(), {name, kWriteFix, opt.compress});
   write_header(f.root(), kind, prov, js);
   write_joint_groups(f.root(), js);
   body(f.root());
@@ -918,14 +918,16 @@ Geometry read_geometry_group(const Group& root, const std::vector<Block>& blocks
 
 const char* to_string(FileKind k) { return k == FileKind::joints ? "joints" : "blocks"; }
 
-void write_joints(const fs::path& out, const JointSystem& js, const Provenance& prov) {
+void write_joints(const fs::path& out, const JointSystem& js, const Provenance& prov,
+                  const WriteOptions& opt) {
   check_joints(Checker(out.string(), kNotWritten), js);
-  write_file(out, FileKind::joints, prov, js, [](const Group&) {});
+  write_file(out, FileKind::joints, prov, js, opt, [](const Group&) {});
 }
 
-void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& prov) {
+void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& prov,
+                  const WriteOptions& opt) {
   check_blocks(Checker(out.string(), kNotWritten), bs);
-  write_file(out, FileKind::blocks, prov, bs.joints, [&](const Group& root) {
+  write_file(out, FileKind::blocks, prov, bs.joints, opt, [&](const Group& root) {
     write_blocks_group(root, bs);
     if (bs.geometry) write_geometry_group(root, *bs.geometry);
   });

@@ -6,7 +6,8 @@
 // (h5io.cpp, tests that craft bad files) needs no HDF5 include path.
 //
 // Files are reproducible: no time stamps (obj_track_times off on every group and dataset),
-// contiguous storage, no filters, the library's default format bounds. On disk, floats are
+// contiguous storage and no filters (unless Context::compress), the library's default format
+// bounds. On disk, floats are
 // IEEE little-endian 64-bit, integers little-endian of the C++ type's width, strings fixed-length
 // null-terminated UTF-8.
 #include <cstddef>
@@ -29,6 +30,8 @@ using Id = std::int64_t;
 struct Context {
   std::string file;  // the name in messages (the user's output path, not the .partial)
   std::string fix;   // the fix in messages
+  /// Writing: datasets chunked, shuffled and deflated (level 4), not contiguous and plain.
+  bool compress = false;
 };
 
 /// Owns one HDF5 identifier and closes it with the matching H5*close.
