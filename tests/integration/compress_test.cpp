@@ -7,7 +7,7 @@
 #include "support/pipeline.hpp"
 #include "support/support.hpp"
 
-TEST_CASE("--compress gives smaller files with the same data, which every tool and h5dump read",
+TEST_CASE("compressed files are smaller, hold the same data, and every tool and h5dump read them",
           "[tools][compress]") {
   test::TempDir tmp;
   const std::string joints = test::run_pipeline(tmp, "table3-lognormal.toml", test::Stage::joints);

@@ -263,33 +263,77 @@ void Group::remove_attribute(const std::string& name) const {
 namespace {
 
 template <class T>
-void write_dataset(hid_t loc, const std::string& name, const std::string& p,
-                   std::span<const T> data, int rank, std::size_t cols, const Context& ctx) {
-  SLICE_ASSERT(rank == 1 || (cols > 0 && data.size() % cols == 0));
-  const hsize_t dims[2] = {rank == 1 ? data.size() : data.size() / cols, cols};
+Handle create_dataset(hid_t loc, const std::string& name, const std::string& p, std::size_t rows,
+                      int rank, std::size_t cols, const Context& ctx) {
+  SLICE_ASSERT(rank == 1 || cols > 0);
+  const hsize_t dims[2] = {rows, rank == 1 ? 1 : cols};
   Handle space = own(H5Screate_simple(rank, dims, nullptr), Handle::Type::dataspace, ctx,
                      "cannot create the dataspace of " + p);
   Handle dcpl = own(H5Pcreate(H5P_DATASET_CREATE), Handle::Type::plist, ctx, "cannot create " + p);
   check(H5Pset_obj_track_times(dcpl.id(), false), ctx, "cannot create " + p);
-  // Every element is written below: no fill pass.
+  // Every element is written: no fill pass.
   check(H5Pset_fill_time(dcpl.id(), H5D_FILL_TIME_NEVER), ctx, "cannot create " + p);
-  if (ctx.compress && !data.empty()) {
+  if (ctx.compress && rows > 0) {
     // Chunks of about 256 kB; shuffle groups the bytes of equal weight, which deflate packs
     // better (the figures in the README).
-    const hsize_t row_bytes = (rank == 1 ? 1 : cols) * sizeof(T);
-    const hsize_t rows = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], (256 << 10) / row_bytes));
-    const hsize_t chunk[2] = {rows, cols};
+    const hsize_t row_bytes = dims[1] * sizeof(T);
+    const hsize_t chunk_rows =
+        std::max<hsize_t>(1, std::min<hsize_t>(rows, (256 << 10) / row_bytes));
+    const hsize_t chunk[2] = {chunk_rows, dims[1]};
     check(H5Pset_chunk(dcpl.id(), rank, chunk), ctx, "cannot create " + p);
     check(H5Pset_shuffle(dcpl.id()), ctx, "cannot create " + p);
     check(H5Pset_deflate(dcpl.id(), 4), ctx, "cannot create " + p);
   }
-  Handle ds = own(H5Dcreate2(loc, name.c_str(), Traits<T>::file(), space.id(), H5P_DEFAULT,
-                             dcpl.id(), H5P_DEFAULT),
-                  Handle::Type::dataset, ctx, "cannot create dataset " + p);
-  if (!data.empty())
-    check(H5Dwrite(ds.id(), Traits<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), ctx,
-          "cannot write " + p);
-  if (!ds.reset()) fail_h5(ctx, "cannot write " + p);
+  return own(H5Dcreate2(loc, name.c_str(), Traits<T>::file(), space.id(), H5P_DEFAULT, dcpl.id(),
+                        H5P_DEFAULT),
+             Handle::Type::dataset, ctx, "cannot create dataset " + p);
+}
+
+}  // namespace
+
+template <class T>
+void RowWriter<T>::append(std::span<const T> data) {
+  const std::size_t width = rank_ == 1 ? 1 : cols_;
+  SLICE_ASSERT(data.size() % width == 0);
+  const std::size_t rows = data.size() / width;
+  SLICE_ASSERT(next_ + rows <= rows_);
+  if (rows == 0) return;
+  const hsize_t start[2] = {next_, 0}, count[2] = {rows, width};
+  Handle file_space =
+      own(H5Dget_space(ds_.id()), Handle::Type::dataspace, ctx_, "cannot write " + path_);
+  check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, count, nullptr), ctx_,
+        "cannot write " + path_);
+  Handle mem_space = own(H5Screate_simple(rank_, count, nullptr), Handle::Type::dataspace, ctx_,
+                         "cannot write " + path_);
+  check(H5Dwrite(ds_.id(), Traits<T>::mem(), mem_space.id(), file_space.id(), H5P_DEFAULT,
+                 data.data()),
+        ctx_, "cannot write " + path_);
+  next_ += rows;
+}
+
+template <class T>
+void RowWriter<T>::finish() {
+  SLICE_ASSERT(next_ == rows_);
+  if (!ds_.reset()) fail_h5(ctx_, "cannot write " + path_);
+}
+
+template <class T>
+RowWriter<T> Group::create_rows(const std::string& name, std::size_t rows, std::size_t cols) const {
+  const int rank = cols == 0 ? 1 : 2;
+  Handle ds = create_dataset<T>(handle_.id(), name, member_path(name), rows, rank, cols, ctx_);
+  return RowWriter<T>(std::move(ds), rows, cols, rank, member_path(name), ctx_);
+}
+
+namespace {
+
+template <class T>
+void write_dataset(const Group& g, const std::string& name, std::span<const T> data,
+                   std::size_t cols) {
+  const std::size_t rows = cols == 0 ? data.size() : data.size() / cols;
+  SLICE_ASSERT(cols == 0 || data.size() % cols == 0);
+  RowWriter<T> w = g.create_rows<T>(name, rows, cols);
+  w.append(data);
+  w.finish();
 }
 
 // A byte count that may exceed every integer type (a damaged shape), e.g. "7.9e+19".
@@ -354,12 +398,13 @@ std::vector<T> read_dataset(const Group& g, hid_t loc, const std::string& name, 
 
 template <class T>
 void Group::write(const std::string& name, std::span<const T> data) const {
-  write_dataset<T>(handle_.id(), name, member_path(name), data, 1, 0, ctx_);
+  write_dataset<T>(*this, name, data, 0);
 }
 
 template <class T>
 void Group::write(const std::string& name, std::span<const T> data, std::size_t cols) const {
-  write_dataset<T>(handle_.id(), name, member_path(name), data, 2, cols, ctx_);
+  SLICE_ASSERT(cols > 0);
+  write_dataset<T>(*this, name, data, cols);
 }
 
 template <class T>
@@ -427,10 +472,12 @@ T Group::read_attribute(const std::string& name) const {
   return value;
 }
 
-#define SLICE_H5_DATASET(T)                                                                 \
-  template void Group::write<T>(const std::string&, std::span<const T>) const;              \
-  template void Group::write<T>(const std::string&, std::span<const T>, std::size_t) const; \
-  template std::vector<T> Group::read<T>(const std::string&) const;                         \
+#define SLICE_H5_DATASET(T)                                                                        \
+  template class RowWriter<T>;                                                                     \
+  template RowWriter<T> Group::create_rows<T>(const std::string&, std::size_t, std::size_t) const; \
+  template void Group::write<T>(const std::string&, std::span<const T>) const;                     \
+  template void Group::write<T>(const std::string&, std::span<const T>, std::size_t) const;        \
+  template std::vector<T> Group::read<T>(const std::string&) const;                                \
   template std::vector<T> Group::read<T>(const std::string&, std::size_t) const;
 SLICE_H5_DATASET(double)
 SLICE_H5_DATASET(std::int64_t)

@@ -55,6 +55,33 @@ class Handle {
   Type type_ = Type::file;
 };
 
+/// A dataset of known shape written in consecutive runs of rows (Group::create_rows), so that
+/// a writer never holds the whole of it. Every row must be written before finish().
+template <class T>
+class RowWriter {
+ public:
+  /// Writes the next rows: data.size() must be a multiple of the columns.
+  void append(std::span<const T> data);
+  /// Checks that every row was written and closes the dataset.
+  void finish();
+
+ private:
+  friend class Group;
+  RowWriter(Handle ds, std::size_t rows, std::size_t cols, int rank, std::string path, Context ctx)
+      : ds_(std::move(ds)),
+        rows_(rows),
+        cols_(cols),
+        rank_(rank),
+        path_(std::move(path)),
+        ctx_(std::move(ctx)) {}
+  Handle ds_;
+  std::size_t rows_, cols_;
+  int rank_;
+  std::size_t next_ = 0;
+  std::string path_;
+  Context ctx_;
+};
+
 /// A group (or the root group of a file). Member names are relative ("normal"); messages use
 /// full paths ("/joints/normal").
 class Group {
@@ -81,6 +108,10 @@ class Group {
   /// Writes a 2-D dataset (data.size() / cols, cols), row-major. An empty span gives (0, cols).
   template <class T>
   void write(const std::string& name, std::span<const T> data, std::size_t cols) const;
+  /// Creates a dataset of `rows` rows to be written by RowWriter::append: 1-D if cols is 0,
+  /// else (rows, cols).
+  template <class T>
+  RowWriter<T> create_rows(const std::string& name, std::size_t rows, std::size_t cols) const;
   /// Reads a 1-D dataset, checking that it exists, has rank 1 and a type that converts to T
   /// without loss (float for double, an integer that fits for integers).
   template <class T>
