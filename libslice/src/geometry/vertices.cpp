@@ -1,7 +1,6 @@
 #include "slice/vertices.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <oneapi/tbb/info.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 #include <oneapi/tbb/task_group.h>
@@ -14,6 +13,7 @@
 #include <exception>
 #include <string>
 
+#include "../threads.hpp"
 #include "slice/error.hpp"
 #include "slice/lp.hpp"
 
@@ -388,8 +388,7 @@ GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress, int th
   // every thread count and at most two waves are held twice. The first error in block order is
   // the one reported.
   constexpr std::size_t kChunk = 512, kWave = 64;
-  const int cores = tbb::info::default_concurrency();
-  tbb::task_arena arena(threads > 0 ? std::min(threads, cores) : cores);
+  tbb::task_arena arena(thread_count(threads));
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
   struct Wave {
     std::vector<Geometry> parts;

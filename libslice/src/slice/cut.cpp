@@ -2,7 +2,6 @@
 
 #include <oneapi/tbb/combinable.h>
 #include <oneapi/tbb/enumerable_thread_specific.h>
-#include <oneapi/tbb/info.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 #include <oneapi/tbb/task_group.h>
@@ -25,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "../threads.hpp"
 #include "slice/decide.hpp"
 #include "slice/error.hpp"
 #include "slice/estimate.hpp"
@@ -119,10 +119,7 @@ class Referees {
 /// The threads to run on: CutOptions::threads up to the cores, but one for Ipopt, whose linear
 /// solver (MUMPS, sequential build) keeps global state.
 int threads_for(const CutOptions& opt) {
-  if (opt.backend == LpBackend::ipopt) return 1;
-  // More threads than cores would only wait (and oneTBB warns that it limits them).
-  const int cores = tbb::info::default_concurrency();
-  return opt.threads > 0 ? std::min(opt.threads, cores) : cores;
+  return opt.backend == LpBackend::ipopt ? 1 : thread_count(opt.threads);
 }
 
 /// What every subdivision shares (read only, but for the block count).
