@@ -118,8 +118,8 @@ class Referees {
 
 /// The threads to run on: CutOptions::threads up to the cores, but one for Ipopt, whose linear
 /// solver (MUMPS, sequential build) keeps global state.
-int threads_for(const CutOptions& opt) {
-  return opt.backend == LpBackend::ipopt ? 1 : thread_count(opt.threads);
+int threads_for(LpBackend backend, int threads) {
+  return backend == LpBackend::ipopt ? 1 : thread_count(threads);
 }
 
 /// What every subdivision shares (read only, but for the block count).
@@ -465,7 +465,7 @@ class Cutter {
              js.options.min_inscribed_diameter > 0 || js.options.max_aspect_ratio > 0,
              nullptr},
         referees_(opt.backend, ctx_.tol, opt.certify),
-        arena_(threads_for(opt)) {}
+        arena_(threads_for(opt.backend, opt.threads)) {}
 
   CutResult run() {
     check_estimate();
@@ -660,11 +660,9 @@ class Cutter {
         lists[g].push_back(j);
       });
     }
-    assigned_ += [&] {
-      std::size_t a = 0;
-      for (const auto& l : lists) a += l.size();
-      return a;
-    }() - (task.joints.size() - k);
+    // The progress bar's total: the pairs handed out replace the task's unprocessed ones.
+    for (const auto& l : lists) assigned_ += l.size();
+    assigned_ -= task.joints.size() - k;
 
     // The children: each group's blocks (in their order in the task) and its box.
     std::vector<std::vector<std::size_t>> members(groups);
@@ -876,11 +874,8 @@ PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& prog
   PruneStats st;
   const Tolerances tol =
       Tolerances::from_scale(bs.joints.length_scale, bs.joints.options.tolerance);
-  CutOptions opt;
-  opt.backend = backend;
-  opt.threads = threads;
   Referees referees(backend, tol, certify);
-  tbb::task_arena arena(threads_for(opt));
+  tbb::task_arena arena(threads_for(backend, threads));
   // Blocks are independent. The first error in block order is the one reported, whatever the
   // thread that met it (the others are dropped).
   std::mutex mutex;
