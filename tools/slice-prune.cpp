@@ -29,8 +29,9 @@ int main(int argc, char** argv) {
     slice::write_blocks(target, bs, t.provenance(in), t.write_options());
     t.say(std::to_string(bs.blocks.size()) + " blocks: faces " + std::to_string(s.faces_before) +
           " -> " + std::to_string(s.faces_after) + " (" + std::to_string(s.lps) + " LPs, " +
-          std::to_string(s.failed) + " failed, " + std::to_string(s.decisions.resolved) +
-          " solved again exactly, " + tool::fixed(s.seconds, 3) + " s) -> " + target);
+          std::to_string(s.certified) + " faces kept without one, " + std::to_string(s.failed) +
+          " failed, " + std::to_string(s.decisions.resolved) + " solved again exactly, " +
+          tool::fixed(s.seconds, 3) + " s) -> " + target);
     t.say(std::string(certify ? "certify: " : "near-threshold: ") +
           std::to_string(s.decisions.checked) + " decisions within " +
           (certify ? "the tolerance" : "rounding") + " of their threshold decided again exactly, " +

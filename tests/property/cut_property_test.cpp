@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "slice/cut.hpp"
+#include "slice/lp.hpp"
 #include "slice/scene.hpp"
 #include "support/blocks_check.hpp"
 #include "support/support.hpp"
@@ -98,6 +99,59 @@ TEST_CASE("results do not depend on a 1e6 m offset or on units", "[property][cut
     // of a small block's inradius.
     CHECK_THAT(moved.blocks[i].inradius,
                Catch::Matchers::WithinAbs(a.inradius, 1e-9 * base.joints.length_scale));
+  }
+}
+
+TEST_CASE("pruning keeps exactly the faces the redundancy LPs keep", "[property][cut][prune]") {
+  // prune_blocks keeps a face without an LP when a point of it is surely inside the others;
+  // here every face is decided by the exact LP against the faces kept so far, as eq. 8 says,
+  // with the blocks' origins at their Chebyshev centres (as cut) and moved away (as a file may
+  // have them).
+  const auto seed = GENERATE(range(1u, 1u + static_cast<unsigned>(test::scaled_cases(30))));
+  CAPTURE(seed);
+  const auto js = slice::generate_joints(
+      slice::parse_scene(random_scene(seed, Vec3(1e5, -2e3, 7), 1.0), "random.toml"));
+  auto cut = slice::cut_blocks(js, slice::CutOptions{});
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-2, 2);
+  for (const bool moved : {false, true}) {
+    CAPTURE(moved);
+    slice::BlockSystem bs = cut.blocks;
+    if (moved)
+      for (auto& b : bs.blocks) {
+        const Vec3 shift(u(rng), u(rng), u(rng));
+        for (auto& f : b.faces) f.d -= f.normal.dot(shift);
+        b.origin += shift;
+      }
+    const slice::Tolerances tol =
+        slice::Tolerances::from_scale(js.length_scale, js.options.tolerance);
+    auto exact = slice::make_solver(slice::LpBackend::exact);
+    std::vector<std::vector<slice::Face>> expected;
+    for (const auto& b : bs.blocks) {
+      auto faces = b.faces;
+      for (std::size_t f = 0; f < faces.size();) {
+        if (slice::face_redundancy(*exact, faces, f, tol).redundant)
+          faces.erase(faces.begin() + std::ptrdiff_t(f));
+        else
+          ++f;
+      }
+      expected.push_back(std::move(faces));
+    }
+    for (const bool check_solids : {true, false}) {
+      auto pruned = bs;
+      const auto st =
+          slice::prune_blocks(pruned, slice::LpBackend::native, {}, false, 1, check_solids);
+      CHECK(st.certified > 0);
+      REQUIRE(pruned.blocks.size() == expected.size());
+      for (std::size_t i = 0; i < expected.size(); ++i) {
+        const auto& got = pruned.blocks[i].faces;
+        REQUIRE(got.size() == expected[i].size());
+        for (std::size_t f = 0; f < got.size(); ++f) {
+          CHECK(got[f].normal == expected[i][f].normal);
+          CHECK(got[f].d == expected[i][f].d);
+        }
+      }
+    }
   }
 }
 
