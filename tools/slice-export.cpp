@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
       .add_option("--pb-rounding", yade.pb_rounding,
                   "yade-potential-blocks: rounding radius / inscribed radius")
       ->capture_default_str();
+  t.add_threads_option();
   return t.run(argc, argv, [&] {
     tool::check_distinct_paths({{"geometry", in, false}, {"-o", out}, {"--joints", joints}});
     if (format != "vtu" && format != "yade" && format != "yade-potential-blocks")
@@ -58,7 +59,7 @@ int main(int argc, char** argv) {
       throw slice::Error(in, "the blocks have no vertices (no /geometry)",
                          "run slice-vertices on it first");
     if (format == "vtu") {
-      const auto st = slice::write_blocks_vtu(out, bs, vtu_compressor);
+      const auto st = slice::write_blocks_vtu(out, bs, vtu_compressor, t.threads);
       t.say(std::to_string(st.cells) + " blocks (" + std::to_string(st.skipped) +
             " removed left out), " + std::to_string(st.points) + " points -> " + out);
       if (!joints.empty()) {

@@ -196,3 +196,43 @@ TEST_CASE("slice-export vtu: every compressor reads back the same; an unknown on
   CHECK_THAT(r.err, Contains("--vtu-compressor") && Contains("lzma") && Contains("lz4"));
   CHECK_FALSE(test::fs::exists(tmp / "x.vtu"));
 }
+
+TEST_CASE("slice-export vtu: the same bytes on 1 and 2 threads, for every compressor",
+          "[tools][export][vtu][threads]") {
+  // 21,108 blocks: every array spans several batches of compressed blocks.
+  test::TempDir tmp;
+  const auto geom = test::run_pipeline(tmp, "table3-persistent.toml", test::Stage::geometry);
+  for (const char* c : {"lz4", "zlib", "none"}) {
+    CAPTURE(c);
+    const std::string one = (tmp / "one.vtu").string(), two = (tmp / "two.vtu").string();
+    REQUIRE(run_tool("slice-export", {geom, "-o", one, "--vtu-compressor", c, "--threads", "1"})
+                .exit_code == 0);
+    REQUIRE(run_tool("slice-export", {geom, "-o", two, "--vtu-compressor", c, "--threads", "2"})
+                .exit_code == 0);
+    CHECK(test::read_bytes(one) == test::read_bytes(two));
+    CHECK(read_vtu(two)->GetNumberOfCells() == 21108);
+  }
+}
+
+TEST_CASE("slice-export vtu: a model whose blocks are all removed gives an empty grid",
+          "[tools][export][vtu]") {
+  test::TempDir tmp;
+  const std::string scene = test::read_bytes(test::data_path("cube-3sets.toml")) +
+                            "\n[[zones]]\nbox = { min = [-1, -1, -1], max = [11, 11, 11] }\n";
+  test::write_text(tmp / "all.toml", scene);
+  const auto j = (tmp / "j.h5").string(), b = (tmp / "b.h5").string(), g = (tmp / "g.h5").string();
+  REQUIRE(run_tool("slice-joints", {(tmp / "all.toml").string(), "-o", j}).exit_code == 0);
+  REQUIRE(run_tool("slice-cut", {j, "-o", b, "--prune"}).exit_code == 0);
+  REQUIRE(run_tool("slice-vertices", {b, "-o", g}).exit_code == 0);
+  for (const char* c : {"lz4", "zlib", "none"}) {
+    CAPTURE(c);
+    const std::string vtu = (tmp / (std::string(c) + ".vtu")).string();
+    const auto r = run_tool("slice-export", {g, "-o", vtu, "--vtu-compressor", c});
+    REQUIRE(r.exit_code == 0);
+    CHECK_THAT(r.err, Contains("0 blocks (1000 removed left out)"));
+    const auto grid = read_vtu(vtu);
+    CHECK(grid->GetNumberOfCells() == 0);
+    CHECK(grid->GetNumberOfPoints() == 0);
+    CHECK(grid->GetCellData()->GetArray("volume") != nullptr);
+  }
+}

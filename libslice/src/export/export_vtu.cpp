@@ -1,84 +1,66 @@
 #include "slice/export_vtu.hpp"
 
-#include <vtkCellData.h>
-#include <vtkCellType.h>
-#include <vtkDoubleArray.h>
-#include <vtkErrorCode.h>
-#include <vtkNew.h>
-#include <vtkObject.h>
-#include <vtkPoints.h>
-#include <vtkTypeInt32Array.h>
-#include <vtkTypeInt64Array.h>
-#include <vtkUnsignedCharArray.h>
-#include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridWriter.h>
+#include <oneapi/tbb/task_arena.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <limits>
 #include <string>
 #include <vector>
 
-#include "../io/h5/h5.hpp"
+#include "../threads.hpp"
 #include "slice/error.hpp"
 #include "slice/orientation.hpp"
 #include "slice/output.hpp"
 #include "slice/polytope.hpp"
 #include "slice/vertices.hpp"
+#include "vtu_file.hpp"
 
 namespace slice {
 namespace {
 
-/// VTK reports errors by printing them; the library prints nothing. This switches VTK's
-/// (process-wide) messages off while a writer runs and restores the setting after.
-class QuietVtk {
- public:
-  QuietVtk() : was_(vtkObject::GetGlobalWarningDisplay()) { vtkObject::GlobalWarningDisplayOff(); }
-  ~QuietVtk() { vtkObject::SetGlobalWarningDisplay(was_); }
-  QuietVtk(const QuietVtk&) = delete;
-  QuietVtk& operator=(const QuietVtk&) = delete;
+constexpr std::uint8_t kVtkPolygon = 7, kVtkPolyhedron = 42;  // VTK's cell types
+constexpr std::size_t kChunkBytes = 1 << 20;  // values gathered before they go to the file
 
- private:
-  int was_;
-};
-
-template <class Array>
-vtkNew<Array> named_array(const char* name, std::size_t rows) {
-  vtkNew<Array> a;
-  a->SetName(name);
-  a->SetNumberOfComponents(1);
-  a->SetNumberOfTuples(vtkIdType(rows));
-  return a;
+/// Exact text of a value for RangeMin / RangeMax.
+std::string text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
 }
 
-/// Writes `grid` to out atomically: binary appended data, compressed, 64-bit headers.
-void write_grid(const std::filesystem::path& out, vtkUnstructuredGrid* grid,
-                VtuCompressor compressor) {
-  PartialFile part(out);
-  {
-    const QuietVtk quiet;
-    vtkNew<vtkXMLUnstructuredGridWriter> w;
-    w->SetFileName(part.path().c_str());
-    w->SetInputData(grid);
-    w->SetDataModeToAppended();
-    w->EncodeAppendedDataOff();  // raw binary, not base64
-    switch (compressor) {
-      case VtuCompressor::lz4:
-        w->SetCompressorTypeToLZ4();
-        break;
-      case VtuCompressor::zlib:
-        w->SetCompressorTypeToZLib();
-        break;
-      case VtuCompressor::none:
-        w->SetCompressorTypeToNone();
-        break;
-    }
-    w->SetHeaderTypeToUInt64();
-    w->SetIdTypeToInt64();
-    if (w->Write() != 1 || w->GetErrorCode() != vtkErrorCode::NoError)
-      throw Error(out.string(),
-                  std::string("VTK could not write it (") +
-                      vtkErrorCode::GetStringFromErrorCode(w->GetErrorCode()) + ")",
-                  "check that the directory is writable and the disk is not full");
+struct Range {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  void add(double v) {
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
   }
-  part.commit();
+  vtu::ArraySpec spec(const char* type, std::string name) const {
+    if (lo > hi) return {type, std::move(name)};
+    return {type, std::move(name), 1, false, text(lo), text(hi)};
+  }
+};
+
+/// Streams one array of `count` values of T: emit(k, out) appends the values of item k (a kept
+/// block or joint) to out, for k in order; they go to the file a chunk at a time.
+template <class T, class Emit>
+void stream(vtu::File& f, std::size_t items, std::size_t count, Emit emit) {
+  f.begin_array(count * sizeof(T));
+  std::vector<T> buf;
+  buf.reserve(kChunkBytes / sizeof(T) + 64);
+  std::size_t sent = 0;
+  for (std::size_t k = 0; k < items; ++k) {
+    emit(k, buf);
+    if (buf.size() * sizeof(T) >= kChunkBytes) {
+      f.put(buf.data(), buf.size() * sizeof(T));
+      sent += buf.size();
+      buf.clear();
+    }
+  }
+  f.put(buf.data(), buf.size() * sizeof(T));
+  sent += buf.size();
+  SLICE_ASSERT(sent == count);
+  f.end_array();
 }
 
 }  // namespace
@@ -91,75 +73,128 @@ VtuCompressor parse_vtu_compressor(const std::string& text, const std::string& o
 }
 
 VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& bs,
-                          VtuCompressor compressor) {
+                          VtuCompressor compressor, int threads) {
   if (!bs.geometry)
     throw Error(out.string(), "the blocks have no vertices (no /geometry)",
                 "run slice-vertices on the blocks file first");
   const Geometry& g = *bs.geometry;
   VtuStats st;
-  std::size_t kept = 0;
-  for (const Block& b : bs.blocks) kept += (b.flags & kRemoved) ? 0 : 1;
-
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  vtkNew<vtkUnstructuredGrid> grid;
-  grid->Allocate(vtkIdType(kept));
-  auto block_id = named_array<vtkTypeInt64Array>("block_id", kept);
-  auto volume = named_array<vtkDoubleArray>("volume", kept);
-  auto inradius = named_array<vtkDoubleArray>("inradius", kept);
-  auto cluster = named_array<vtkTypeInt64Array>("cluster", kept);
-  auto boundary = named_array<vtkUnsignedCharArray>("boundary", kept);
-  auto fixed = named_array<vtkUnsignedCharArray>("fixed", kept);  // boundary or fixed_faces
-  auto aspect = named_array<vtkDoubleArray>("aspect_ratio", kept);
-
-  std::vector<vtkIdType> ids, faces;
-  std::size_t face_row = 0;
-  vtkIdType cell = 0;
+  // The kept blocks, their first face row, and the sizes and ranges the header states.
+  std::vector<std::size_t> kept, face_row;
+  std::size_t points = 0, conn = 0, stream_len = 0, row = 0;
+  Range r_id, r_volume, r_inradius, r_cluster, r_boundary, r_fixed, r_aspect, r_points;
+  const auto aspect = [](const Block& b) {
+    return b.inradius > 0 ? b.bsphere[3] / b.inradius : 0.0;
+  };
   for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
     const Block& blk = bs.blocks[b];
     const std::size_t nf = blk.faces.size();
     if (blk.flags & kRemoved) {
-      face_row += nf;
+      row += nf;
       ++st.skipped;
       continue;
     }
-    const vtkIdType base = points->GetNumberOfPoints();
-    ids.clear();
-    for (auto v = g.vertex_offset[b]; v < g.vertex_offset[b + 1]; ++v) {
-      const Vec3& x = g.vertices[std::size_t(v)];
-      ids.push_back(points->InsertNextPoint(x.x(), x.y(), x.z()));
-    }
-    faces.clear();
-    for (std::size_t f = 0; f < nf; ++f, ++face_row) {
-      const auto lo = g.face_vertex_offset[face_row], hi = g.face_vertex_offset[face_row + 1];
-      faces.push_back(vtkIdType(hi - lo));
-      for (auto k = lo; k < hi; ++k)
-        faces.push_back(base + vtkIdType(g.face_vertices[std::size_t(k)]));
-    }
-    grid->InsertNextCell(VTK_POLYHEDRON, vtkIdType(ids.size()), ids.data(), vtkIdType(nf),
-                         faces.data());
-    block_id->SetValue(cell, std::int64_t(b));
-    volume->SetValue(cell, g.volume[b]);
-    inradius->SetValue(cell, blk.inradius);
-    cluster->SetValue(cell, blk.cluster);
-    boundary->SetValue(cell, (blk.flags & kBoundary) ? 1 : 0);
-    fixed->SetValue(cell, (blk.flags & (kBoundary | kFixed)) ? 1 : 0);
-    aspect->SetValue(cell, blk.inradius > 0 ? blk.bsphere[3] / blk.inradius : 0.0);
-    ++cell;
+    kept.push_back(b);
+    face_row.push_back(row);
+    const auto nv = std::size_t(g.vertex_offset[b + 1] - g.vertex_offset[b]);
+    points += nv;
+    conn += nv;
+    stream_len += 1 + nf + std::size_t(g.face_vertex_offset[row + nf] - g.face_vertex_offset[row]);
+    row += nf;
+    r_id.add(double(b));
+    r_volume.add(g.volume[b]);
+    r_inradius.add(blk.inradius);
+    r_cluster.add(double(blk.cluster));
+    r_boundary.add((blk.flags & kBoundary) ? 1 : 0);
+    r_fixed.add((blk.flags & (kBoundary | kFixed)) ? 1 : 0);
+    r_aspect.add(aspect(blk));
+    for (auto v = g.vertex_offset[b]; v < g.vertex_offset[b + 1]; ++v)
+      r_points.add(g.vertices[std::size_t(v)].norm());
   }
-  grid->SetPoints(points);
-  for (vtkAbstractArray* a :
-       {static_cast<vtkAbstractArray*>(block_id.Get()),
-        static_cast<vtkAbstractArray*>(volume.Get()),
-        static_cast<vtkAbstractArray*>(inradius.Get()),
-        static_cast<vtkAbstractArray*>(cluster.Get()),
-        static_cast<vtkAbstractArray*>(boundary.Get()), static_cast<vtkAbstractArray*>(fixed.Get()),
-        static_cast<vtkAbstractArray*>(aspect.Get())})
-    grid->GetCellData()->AddArray(a);
-  grid->GetCellData()->SetActiveScalars("volume");
-  write_grid(out, grid, compressor);
-  st.cells = std::size_t(cell);
-  st.points = std::size_t(points->GetNumberOfPoints());
+  const std::size_t cells = kept.size();
+
+  PartialFile part(out);
+  vtu::File f(part.path(), out.string(), compressor);
+  f.header(points, cells,
+           {{"CellData",
+             {r_id.spec("Int64", "block_id"), r_volume.spec("Float64", "volume"),
+              r_inradius.spec("Float64", "inradius"), r_cluster.spec("Int64", "cluster"),
+              r_boundary.spec("UInt8", "boundary"), r_fixed.spec("UInt8", "fixed"),
+              r_aspect.spec("Float64", "aspect_ratio")}},
+            {"Points", {[&] {
+               auto a = r_points.spec("Float64", "Points");
+               a.components = 3;
+               return a;
+             }()}},
+            {"Cells",
+             {{"Int64", "connectivity"},
+              {"Int64", "offsets"},
+              {"UInt8", "types"},
+              {"Int64", "faces", 1, true},
+              {"Int64", "faceoffsets", 1, true}}}},
+           "volume");
+  tbb::task_arena arena(thread_count(threads));
+  arena.execute([&] {
+    const auto block = [&](std::size_t k) -> const Block& { return bs.blocks[kept[k]]; };
+    stream<std::int64_t>(f, cells, cells,
+                         [&](std::size_t k, auto& o) { o.push_back(std::int64_t(kept[k])); });
+    stream<double>(f, cells, cells,
+                   [&](std::size_t k, auto& o) { o.push_back(g.volume[kept[k]]); });
+    stream<double>(f, cells, cells,
+                   [&](std::size_t k, auto& o) { o.push_back(block(k).inradius); });
+    stream<std::int64_t>(f, cells, cells,
+                         [&](std::size_t k, auto& o) { o.push_back(block(k).cluster); });
+    stream<std::uint8_t>(f, cells, cells, [&](std::size_t k, auto& o) {
+      o.push_back((block(k).flags & kBoundary) ? 1 : 0);
+    });
+    stream<std::uint8_t>(f, cells, cells, [&](std::size_t k, auto& o) {
+      o.push_back((block(k).flags & (kBoundary | kFixed)) ? 1 : 0);
+    });
+    stream<double>(f, cells, cells, [&](std::size_t k, auto& o) { o.push_back(aspect(block(k))); });
+    stream<double>(f, cells, 3 * points, [&](std::size_t k, auto& o) {
+      for (auto v = g.vertex_offset[kept[k]]; v < g.vertex_offset[kept[k] + 1]; ++v) {
+        const Vec3& x = g.vertices[std::size_t(v)];
+        o.insert(o.end(), {x.x(), x.y(), x.z()});
+      }
+    });
+    // Each block has its own points, numbered in the order of its vertices.
+    std::int64_t base = 0;
+    const auto nv = [&](std::size_t k) {
+      return g.vertex_offset[kept[k] + 1] - g.vertex_offset[kept[k]];
+    };
+    stream<std::int64_t>(f, cells, conn, [&](std::size_t k, auto& o) {
+      for (std::int64_t v = 0, n = nv(k); v < n; ++v) o.push_back(base + v);
+      base += nv(k);
+    });
+    base = 0;
+    stream<std::int64_t>(f, cells, cells,
+                         [&](std::size_t k, auto& o) { o.push_back(base += nv(k)); });
+    stream<std::uint8_t>(f, cells, cells,
+                         [&](std::size_t, auto& o) { o.push_back(kVtkPolyhedron); });
+    // Faces: per block its face count, then per face its vertex count and point ids.
+    base = 0;
+    stream<std::int64_t>(f, cells, stream_len, [&](std::size_t k, auto& o) {
+      const std::size_t nf = block(k).faces.size();
+      o.push_back(std::int64_t(nf));
+      for (std::size_t r = face_row[k]; r < face_row[k] + nf; ++r) {
+        const auto lo = g.face_vertex_offset[r], hi = g.face_vertex_offset[r + 1];
+        o.push_back(hi - lo);
+        for (auto v = lo; v < hi; ++v) o.push_back(base + g.face_vertices[std::size_t(v)]);
+      }
+      base += nv(k);
+    });
+    std::int64_t end = 0;
+    stream<std::int64_t>(f, cells, cells, [&](std::size_t k, auto& o) {
+      const std::size_t nf = block(k).faces.size();
+      end += 1 + std::int64_t(nf) +
+             (g.face_vertex_offset[face_row[k] + nf] - g.face_vertex_offset[face_row[k]]);
+      o.push_back(end);
+    });
+  });
+  f.finish();
+  part.commit();
+  st.cells = cells;
+  st.points = points;
   return st;
 }
 
@@ -173,24 +208,21 @@ VtuStats write_joints_vtu(const std::filesystem::path& out, const JointSystem& j
   const Vec3 centre = (dom.min + dom.max) / 2;
   const double half = 2 * ((dom.max - dom.min).norm() / 2 + tol);  // covers the whole domain
 
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  vtkNew<vtkUnstructuredGrid> grid;
-  grid->Allocate(vtkIdType(js.joints.size()));
-  struct Row {
-    std::size_t joint;
-  };
-  std::vector<Row> rows;
-  std::vector<vtkIdType> ids;
+  // Each joint's part inside the domain (a persistent joint: a square of its plane around the
+  // domain's centre, larger than the domain, clipped).
+  std::vector<std::size_t> rows;
+  std::vector<std::vector<Vec3>> polys;
   VtuStats st;
+  std::size_t points = 0;
+  Range r_id, r_set, r_kind, r_persistent, r_friction, r_cohesion, r_points;
   for (std::size_t j = 0; j < js.joints.size(); ++j) {
     const Joint& jt = js.joints[j];
     std::vector<Vec3> poly = joint_polygon(jt);
-    if (poly.empty()) {  // persistent: a square of the plane around the domain's centre
-      const JointFrame f = plane_frame(jt.dip_deg, jt.dip_direction_deg);
+    if (poly.empty()) {
+      const JointFrame fr = plane_frame(jt.dip_deg, jt.dip_direction_deg);
       const Vec3 c = centre - jt.plane.distance(centre) * jt.plane.normal;
-      poly = {c + half * (-f.u - f.v), c + half * (f.u - f.v), c + half * (f.u + f.v),
-              c + half * (-f.u + f.v)};
+      poly = {c + half * (-fr.u - fr.v), c + half * (fr.u - fr.v), c + half * (fr.u + fr.v),
+              c + half * (-fr.u + fr.v)};
     }
     for (const Plane& p : js.domain.planes) {
       poly = clip_polygon(poly, p);
@@ -200,38 +232,60 @@ VtuStats write_joints_vtu(const std::filesystem::path& out, const JointSystem& j
       ++st.skipped;
       continue;
     }
-    ids.clear();
-    for (const Vec3& x : poly) ids.push_back(points->InsertNextPoint(x.x(), x.y(), x.z()));
-    grid->InsertNextCell(VTK_POLYGON, vtkIdType(ids.size()), ids.data());
-    rows.push_back({j});
+    points += poly.size();
+    r_id.add(double(j));
+    r_set.add(jt.set);
+    r_kind.add(static_cast<int>(jt.kind));
+    r_persistent.add(jt.persistent() ? 1 : 0);
+    r_friction.add(jt.friction_angle_deg);
+    r_cohesion.add(jt.cohesion);
+    for (const Vec3& x : poly) r_points.add(x.norm());
+    rows.push_back(j);
+    polys.push_back(std::move(poly));
   }
-  auto joint_id = named_array<vtkTypeInt64Array>("joint_id", rows.size());
-  auto set = named_array<vtkTypeInt32Array>("set", rows.size());
-  auto kind = named_array<vtkUnsignedCharArray>("kind", rows.size());
-  auto persistent = named_array<vtkUnsignedCharArray>("persistent", rows.size());
-  auto friction = named_array<vtkDoubleArray>("friction_angle", rows.size());
-  auto cohesion = named_array<vtkDoubleArray>("cohesion", rows.size());
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    const Joint& jt = js.joints[rows[r].joint];
-    const auto c = vtkIdType(r);
-    joint_id->SetValue(c, std::int64_t(rows[r].joint));
-    set->SetValue(c, jt.set);
-    kind->SetValue(c, static_cast<unsigned char>(jt.kind));
-    persistent->SetValue(c, jt.persistent() ? 1 : 0);
-    friction->SetValue(c, jt.friction_angle_deg);
-    cohesion->SetValue(c, jt.cohesion);
-  }
-  grid->SetPoints(points);
-  for (vtkAbstractArray* a :
-       {static_cast<vtkAbstractArray*>(joint_id.Get()), static_cast<vtkAbstractArray*>(set.Get()),
-        static_cast<vtkAbstractArray*>(kind.Get()),
-        static_cast<vtkAbstractArray*>(persistent.Get()),
-        static_cast<vtkAbstractArray*>(friction.Get()),
-        static_cast<vtkAbstractArray*>(cohesion.Get())})
-    grid->GetCellData()->AddArray(a);
-  write_grid(out, grid, compressor);
-  st.cells = rows.size();
-  st.points = std::size_t(points->GetNumberOfPoints());
+  const std::size_t cells = rows.size();
+
+  PartialFile part(out);
+  vtu::File f(part.path(), out.string(), compressor);
+  auto pts = r_points.spec("Float64", "Points");
+  pts.components = 3;
+  f.header(
+      points, cells,
+      {{"CellData",
+        {r_id.spec("Int64", "joint_id"), r_set.spec("Int32", "set"), r_kind.spec("UInt8", "kind"),
+         r_persistent.spec("UInt8", "persistent"), r_friction.spec("Float64", "friction_angle"),
+         r_cohesion.spec("Float64", "cohesion")}},
+       {"Points", {pts}},
+       {"Cells", {{"Int64", "connectivity"}, {"Int64", "offsets"}, {"UInt8", "types"}}}},
+      "");
+  const auto joint = [&](std::size_t k) -> const Joint& { return js.joints[rows[k]]; };
+  stream<std::int64_t>(f, cells, cells,
+                       [&](std::size_t k, auto& o) { o.push_back(std::int64_t(rows[k])); });
+  stream<std::int32_t>(f, cells, cells, [&](std::size_t k, auto& o) { o.push_back(joint(k).set); });
+  stream<std::uint8_t>(f, cells, cells, [&](std::size_t k, auto& o) {
+    o.push_back(static_cast<std::uint8_t>(joint(k).kind));
+  });
+  stream<std::uint8_t>(f, cells, cells,
+                       [&](std::size_t k, auto& o) { o.push_back(joint(k).persistent() ? 1 : 0); });
+  stream<double>(f, cells, cells,
+                 [&](std::size_t k, auto& o) { o.push_back(joint(k).friction_angle_deg); });
+  stream<double>(f, cells, cells, [&](std::size_t k, auto& o) { o.push_back(joint(k).cohesion); });
+  stream<double>(f, cells, 3 * points, [&](std::size_t k, auto& o) {
+    for (const Vec3& x : polys[k]) o.insert(o.end(), {x.x(), x.y(), x.z()});
+  });
+  std::int64_t base = 0;
+  stream<std::int64_t>(f, cells, points, [&](std::size_t k, auto& o) {
+    for (std::size_t v = 0; v < polys[k].size(); ++v) o.push_back(base++);
+  });
+  base = 0;
+  stream<std::int64_t>(f, cells, cells, [&](std::size_t k, auto& o) {
+    o.push_back(base += std::int64_t(polys[k].size()));
+  });
+  stream<std::uint8_t>(f, cells, cells, [&](std::size_t, auto& o) { o.push_back(kVtkPolygon); });
+  f.finish();
+  part.commit();
+  st.cells = cells;
+  st.points = points;
   return st;
 }
 

@@ -1,0 +1,202 @@
+#include "vtu_file.hpp"
+
+#include <lz4.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <sys/types.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cstring>
+
+#include "slice/error.hpp"
+
+namespace slice::vtu {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the files say byte_order=LittleEndian");
+
+constexpr std::size_t kBlock = 32768;     // uncompressed bytes per block (VTK's default)
+constexpr std::size_t kBatchBlocks = 64;  // blocks compressed together (2 MiB)
+constexpr std::size_t kOffsetWidth = 22;  // "offset=" value: quotes, digits, padding
+constexpr int kZlibLevel = 5;
+
+const char* compressor_name(VtuCompressor c) {
+  switch (c) {
+    case VtuCompressor::lz4:
+      return "vtkLZ4DataCompressor";
+    case VtuCompressor::zlib:
+      return "vtkZLibDataCompressor";
+    case VtuCompressor::none:
+      break;
+  }
+  return nullptr;
+}
+
+/// One block compressed into `out` (resized to the compressed size).
+void compress_block(VtuCompressor c, const unsigned char* in, std::size_t n,
+                    std::vector<unsigned char>& out) {
+  if (c == VtuCompressor::lz4) {
+    out.resize(std::size_t(LZ4_compressBound(int(n))));
+    const int k =
+        LZ4_compress_default(reinterpret_cast<const char*>(in), reinterpret_cast<char*>(out.data()),
+                             int(n), int(out.size()));
+    if (k <= 0) throw Error("VTU writer", "LZ4 could not compress a block", "report this bug");
+    out.resize(std::size_t(k));
+    return;
+  }
+  uLongf k = compressBound(uLong(n));
+  out.resize(k);
+  if (compress2(out.data(), &k, in, uLong(n), kZlibLevel) != Z_OK)
+    throw Error("VTU writer", "zlib could not compress a block", "report this bug");
+  out.resize(k);
+}
+
+}  // namespace
+
+File::File(const std::filesystem::path& path, std::string what, VtuCompressor compressor)
+    : what_(std::move(what)), compressor_(compressor) {
+  f_ = std::fopen(path.c_str(), "wb");
+  if (!f_)
+    throw Error(what_, std::string("cannot be written (") + std::strerror(errno) + ")",
+                "check that the directory is writable");
+  std::setvbuf(f_, nullptr, _IOFBF, 1 << 20);
+}
+
+File::~File() {
+  if (f_) std::fclose(f_);
+}
+
+void File::write(const void* data, std::size_t bytes) {
+  if (bytes && std::fwrite(data, 1, bytes, f_) != bytes)
+    throw Error(what_, std::string("could not be written (") + std::strerror(errno) + ")",
+                "check that the disk is not full");
+}
+
+void File::seek_write(std::int64_t at, const void* data, std::size_t bytes) {
+  if (fseeko(f_, off_t(at), SEEK_SET) != 0)
+    throw Error(what_, "could not be written (seek failed)", "check that the disk is not full");
+  write(data, bytes);
+  if (fseeko(f_, 0, SEEK_END) != 0)
+    throw Error(what_, "could not be written (seek failed)", "check that the disk is not full");
+}
+
+void File::header(std::size_t points, std::size_t cells, const std::vector<Section>& sections,
+                  const std::string& scalars) {
+  std::string x =
+      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+      "header_type=\"UInt64\"";
+  if (const char* c = compressor_name(compressor_)) x += std::string(" compressor=\"") + c + "\"";
+  x += ">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" + std::to_string(points) +
+       "\" NumberOfCells=\"" + std::to_string(cells) +
+       "\">\n      <PointData>\n      </PointData>\n";
+  const bool has_cell_data = std::any_of(sections.begin(), sections.end(),
+                                         [](const Section& s) { return s.tag == "CellData"; });
+  if (!has_cell_data) x += "      <CellData>\n      </CellData>\n";
+  for (const Section& s : sections) {
+    x += "      <" + s.tag;
+    if (s.tag == "CellData" && !scalars.empty()) x += " Scalars=\"" + scalars + "\"";
+    x += ">\n";
+    for (const ArraySpec& a : s.arrays) {
+      x += std::string("        <DataArray type=\"") + a.type + "\"";
+      if (a.id_type) x += " IdType=\"1\"";
+      x += " Name=\"" + a.name + "\"";
+      if (a.components != 1) x += " NumberOfComponents=\"" + std::to_string(a.components) + "\"";
+      x += " format=\"appended\"";
+      if (!a.range_min.empty())
+        x += " RangeMin=\"" + a.range_min + "\" RangeMax=\"" + a.range_max + "\"";
+      x += " offset=";
+      offset_slots_.push_back(std::int64_t(x.size()));
+      x += std::string(kOffsetWidth, ' ') + "/>\n";
+    }
+    x += "      </" + s.tag + ">\n";
+  }
+  x += "    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _";
+  write(x.data(), x.size());
+  appended_start_ = std::int64_t(x.size());
+}
+
+void File::begin_array(std::size_t bytes) {
+  SLICE_ASSERT(array_ < offset_slots_.size() && received_ == expected_);
+  const std::int64_t at = ftello(f_);
+  offsets_.push_back(std::uint64_t(at - appended_start_));
+  expected_ = bytes;
+  received_ = 0;
+  block_sizes_.clear();
+  pending_.clear();
+  array_header_at_ = at;
+  if (compressor_ == VtuCompressor::none) {
+    const std::uint64_t n = bytes;
+    write(&n, sizeof n);
+    return;
+  }
+  // Room for the block header: count, block size, last block size, compressed sizes.
+  const std::size_t blocks = (bytes + kBlock - 1) / kBlock;
+  const std::vector<std::uint64_t> room(3 + blocks, 0);
+  write(room.data(), room.size() * sizeof(std::uint64_t));
+}
+
+void File::put(const void* data, std::size_t bytes) {
+  received_ += bytes;
+  SLICE_ASSERT(received_ <= expected_);
+  if (compressor_ == VtuCompressor::none) {
+    write(data, bytes);
+    return;
+  }
+  const auto* p = static_cast<const unsigned char*>(data);
+  pending_.insert(pending_.end(), p, p + bytes);
+  if (pending_.size() >= kBatchBlocks * kBlock) flush_blocks(false);
+}
+
+/// Compresses the pending full blocks (and, if `last`, the partial one) in parallel and
+/// writes them in order.
+void File::flush_blocks(bool last) {
+  const std::size_t full = pending_.size() / kBlock;
+  const std::size_t count = full + (last && pending_.size() % kBlock ? 1 : 0);
+  if (count == 0) return;
+  std::vector<std::vector<unsigned char>> out(count);
+  tbb::parallel_for(std::size_t(0), count, [&](std::size_t k) {
+    const std::size_t lo = k * kBlock, n = std::min(kBlock, pending_.size() - lo);
+    compress_block(compressor_, pending_.data() + lo, n, out[k]);
+  });
+  for (const auto& o : out) {
+    write(o.data(), o.size());
+    block_sizes_.push_back(o.size());
+  }
+  pending_.erase(pending_.begin(),
+                 pending_.begin() + std::ptrdiff_t(std::min(pending_.size(), count * kBlock)));
+}
+
+void File::end_array() {
+  SLICE_ASSERT(received_ == expected_);
+  ++array_;
+  if (compressor_ == VtuCompressor::none) return;
+  flush_blocks(true);
+  std::vector<std::uint64_t> h{block_sizes_.size(), kBlock, expected_ % kBlock};
+  h.insert(h.end(), block_sizes_.begin(), block_sizes_.end());
+  SLICE_ASSERT(h.size() == 3 + (expected_ + kBlock - 1) / kBlock);
+  seek_write(array_header_at_, h.data(), h.size() * sizeof(std::uint64_t));
+}
+
+void File::finish() {
+  SLICE_ASSERT(array_ == offset_slots_.size());
+  const std::string footer = "\n  </AppendedData>\n</VTKFile>\n";
+  write(footer.data(), footer.size());
+  for (std::size_t k = 0; k < offset_slots_.size(); ++k) {
+    char v[kOffsetWidth + 1];
+    const int n =
+        std::snprintf(v, sizeof v, "\"%llu\"", static_cast<unsigned long long>(offsets_[k]));
+    SLICE_ASSERT(n > 0 && std::size_t(n) <= kOffsetWidth);
+    std::memset(v + n, ' ', kOffsetWidth - std::size_t(n));
+    seek_write(offset_slots_[k], v, kOffsetWidth);
+  }
+  const bool bad = std::fflush(f_) != 0 || std::ferror(f_);
+  const int closed = std::fclose(f_);
+  f_ = nullptr;
+  if (bad || closed != 0)
+    throw Error(what_, std::string("could not be written (") + std::strerror(errno) + ")",
+                "check that the disk is not full");
+}
+
+}  // namespace slice::vtu
