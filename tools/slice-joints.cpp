@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
                "Read a scene file, generate its joints and write them to an HDF5 file."};
   std::string scene_file;
   std::string out = "joints.h5";
-  t.cli.add_option("scene", scene_file, "scene file (TOML, see DESIGN section 6)")->required();
+  t.cli.add_option("scene", scene_file, "scene file (TOML, see docs/scenes.md)")->required();
   t.cli.add_option("-o,--output", out, "output file")->capture_default_str();
   std::optional<std::int64_t> seed;  // as [scene] seed: an integer from 0 to 2^63 - 1
   t.cli

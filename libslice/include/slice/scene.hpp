@@ -199,6 +199,17 @@ struct JointSystem {
   std::vector<Region> zones;
 };
 
+/// The keys a scene file's tables accept, from the lists the parser checks them against (for
+/// docs/scenes.md and the test that it names them all). `table` is "" for the top level, whose
+/// keys are the tables, or a table: "scene", "domain", "options", "joints", "sets", "zones";
+/// `within` is "" or an inline table of it ("box", "planes", "size", "scanline").
+struct SceneKeys {
+  std::string_view table;
+  std::string_view within;
+  std::vector<std::string_view> keys;
+};
+std::vector<SceneKeys> scene_keys();
+
 /// Parses and validates a scene file. Throws Error("<file>:<line>", what, fix) on bad input.
 Scene load_scene(const std::filesystem::path& file);
 /// The same from a string; `name` stands for the file in messages.

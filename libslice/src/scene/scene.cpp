@@ -1099,6 +1099,31 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
 
 }  // namespace
 
+std::vector<SceneKeys> scene_keys() {
+  const auto list = [](Keys keys) {
+    return std::vector<std::string_view>(keys.begin(), keys.end());
+  };
+  // `size` takes the keys of its distribution: all of them, each once.
+  std::vector<std::string_view> size;
+  for (const Keys keys :
+       {Keys(kFixedKeys), Keys(kLognormalKeys), Keys(kExponentialKeys), Keys(kPowerLawKeys)})
+    for (const auto& k : keys)
+      if (std::find(size.begin(), size.end(), k) == size.end()) size.push_back(k);
+  return {{"", "", list(kTopTables)},
+          {"scene", "", list(kSceneKeys)},
+          {"domain", "", list(kRegionKeys)},
+          {"domain", "box", list(kBoxKeys)},
+          {"domain", "planes", list(kPlaneKeys)},
+          {"options", "", list(kOptionKeys)},
+          {"joints", "", list(kJointKeys)},
+          {"sets", "", list(kSetKeys)},
+          {"sets", "size", std::move(size)},
+          {"sets", "scanline", list(kScanlineKeys)},
+          {"zones", "", list(kRegionKeys)},
+          {"zones", "box", list(kBoxKeys)},
+          {"zones", "planes", list(kPlaneKeys)}};
+}
+
 Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
   const std::string file = name.string();
   const Reader r(file);
