@@ -27,7 +27,7 @@ for s in "${spacings[@]}"; do
     flag=()
     [ "$index" = yes ] || flag=(--no-index)
     /usr/bin/time -f "%M" -o "$work/rss" "$bin/slice-cut" -q "$work/joints.h5" -o "$work/blocks.h5" \
-      --prune --stats "$work/stats.json" "${flag[@]}"
+      --prune --threads 1 --stats "$work/stats.json" "${flag[@]}"
     /usr/bin/python3 - "$work/stats.json" "$work/rss" "$index" "$s" >>"$csv" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
