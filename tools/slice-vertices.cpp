@@ -1,6 +1,7 @@
 // slice-vertices: blocks.h5 -> geom.h5, the blocks' vertices, face loops, volumes, centroids,
 // inertia, face areas and rock-bridge fractions (/geometry, DESIGN section 7).
 #include <cstdio>
+#include <future>
 #include <string>
 
 #include "common/tool.hpp"
@@ -25,6 +26,8 @@ int main(int argc, char** argv) {
   t.add_compress_option();
   return t.run(argc, argv, [&] {
     tool::check_distinct_paths({{"blocks", in, false}, {"-o", out}});
+    // The input's hash is taken while it is read, /blocks written while /geometry is computed.
+    auto provenance = std::async(std::launch::async, [&] { return t.provenance(in); });
     slice::BlockSystem bs = slice::read_blocks(in);
     if (!bs.pruned && !prune)
       throw slice::Error(in, "the blocks are not pruned (/blocks attribute pruned is 0)",
@@ -35,8 +38,9 @@ int main(int argc, char** argv) {
       t.say("pruned: faces " + std::to_string(ps.faces_before) + " -> " +
             std::to_string(ps.faces_after) + " (" + tool::fixed(ps.seconds, 3) + " s)");
     }
+    slice::BlocksFileWriter writer(out, bs, provenance.get(), t.write_options());
     const slice::GeometryStats s = slice::compute_geometry(bs, t.progress(), t.threads);
-    slice::write_blocks(out, bs, t.provenance(in), t.write_options());
+    writer.finish();
     const double us = s.blocks ? 1e6 * s.seconds / double(s.blocks) : 0;
     t.say(std::to_string(s.blocks) + " blocks, " + std::to_string(s.vertices) + " vertices, " +
           std::to_string(s.faces) + " faces -> " + out);

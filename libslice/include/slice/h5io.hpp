@@ -4,6 +4,7 @@
 // (no time stamps: the same content gives the same bytes); readers validate everything and
 // throw Error naming the file, the dataset, the row and the fix.
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -65,6 +66,27 @@ JointSystem read_joints(const std::filesystem::path& in);
 void write_blocks(const std::filesystem::path& out, const BlockSystem& bs, const Provenance& prov,
                   const WriteOptions& opt = {});
 BlockSystem read_blocks(const std::filesystem::path& in);
+
+/// write_blocks in two parts, for a tool that computes /geometry meanwhile (slice-vertices): the
+/// constructor checks the joints and blocks and writes them (and the header) to `out`'s .partial
+/// on a thread of its own; finish() waits for that, checks and writes bs.geometry (if any) and
+/// renames the file onto `out`. The bytes are write_blocks'. Until finish() returns, nothing but
+/// bs.geometry may change, and nothing of bs but bs.geometry may be read by another thread that
+/// writes. Errors of the first part are thrown by finish(); destroyed unfinished, it waits for
+/// the thread and removes the .partial.
+class BlocksFileWriter {
+ public:
+  BlocksFileWriter(const std::filesystem::path& out, const BlockSystem& bs, const Provenance& prov,
+                   const WriteOptions& opt = {});
+  ~BlocksFileWriter();
+  BlocksFileWriter(const BlocksFileWriter&) = delete;
+  BlocksFileWriter& operator=(const BlocksFileWriter&) = delete;
+  void finish();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// Reads and checks the root attributes only (schema, version <= kSchemaVersion).
 FileHeader read_header(const std::filesystem::path& in);

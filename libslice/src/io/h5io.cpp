@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <future>
 #include <limits>
 #include <optional>
 #include <span>
@@ -314,7 +315,7 @@ void check_geometry(const Checker& c, const BlockSystem& bs) {
   }
 }
 
-void check_blocks(const Checker& c, const BlockSystem& bs) {
+void check_blocks(const Checker& c, const BlockSystem& bs, bool with_geometry = true) {
   check_joints(c, bs.joints);
   const auto joints = static_cast<std::int64_t>(bs.joints.joints.size());
   std::size_t face_row = 0;
@@ -337,7 +338,7 @@ void check_blocks(const Checker& c, const BlockSystem& bs) {
       c.fail(at("/blocks/cluster", b) + " is " + str(blk.cluster) +
              "; expected -1 (none) or a cluster id");
   }
-  if (bs.geometry) check_geometry(c, bs);
+  if (with_geometry && bs.geometry) check_geometry(c, bs);
 }
 
 // --- writing ---------------------------------------------------------------------------------
@@ -569,18 +570,29 @@ void write_geometry_group(const Group& root, const Geometry& geo) {
   g.write<double>("face_joint_fraction", geo.face_joint_fraction);
 }
 
-// Validates, then writes to "<out>.partial" and renames it onto `out`.
+// "<out>.partial" created with its header and joint groups; `commit` closes and renames it.
+struct OpenFile {
+  OpenFile(const fs::path& out, FileKind kind, const Provenance& prov, const JointSystem& js,
+           const WriteOptions& opt)
+      : part(out), f(h5::File::create(part.path(), {out.string(), kWriteFix, opt.compress})) {
+    write_header(f.root(), kind, prov, js);
+    write_joint_groups(f.root(), js);
+  }
+  void commit() {
+    f.close();
+    part.commit();
+  }
+  PartialFile part;
+  h5::File f;
+};
+
+// Validated by the caller; writes to "<out>.partial" and renames it onto `out`.
 template <class Body>
 void write_file(const fs::path& out, FileKind kind, const Provenance& prov, const JointSystem& js,
                 const WriteOptions& opt, const Body& body) {
-  const std::string name = out.string();
-  PartialFile part(out);
-  h5::File f = h5::File::create(part.path(), {name, kWriteFix, opt.compress});
-  write_header(f.root(), kind, prov, js);
-  write_joint_groups(f.root(), js);
-  body(f.root());
-  f.close();
-  part.commit();
+  OpenFile file(out, kind, prov, js, opt);
+  body(file.f.root());
+  file.commit();
 }
 
 // --- reading ---------------------------------------------------------------------------------
@@ -966,6 +978,38 @@ void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& 
     write_blocks_group(root, bs);
     if (bs.geometry) write_geometry_group(root, *bs.geometry);
   });
+}
+
+struct BlocksFileWriter::Impl {
+  Impl(const BlockSystem& b, std::string n) : bs(b), name(std::move(n)) {}
+  const BlockSystem& bs;
+  std::string name;
+  std::optional<OpenFile> file;
+  std::future<void> first;  // the header, joints and /blocks
+};
+
+BlocksFileWriter::BlocksFileWriter(const fs::path& out, const BlockSystem& bs,
+                                   const Provenance& prov, const WriteOptions& opt)
+    : impl_(std::make_unique<Impl>(bs, out.string())) {
+  check_blocks(Checker(out.string(), kNotWritten), bs, false);
+  // A bad output path fails here, before any work; the large /blocks group is written meanwhile.
+  impl_->file.emplace(out, FileKind::blocks, prov, bs.joints, opt);
+  impl_->first =
+      std::async(std::launch::async, [&m = *impl_] { write_blocks_group(m.file->f.root(), m.bs); });
+}
+
+BlocksFileWriter::~BlocksFileWriter() {
+  if (impl_->first.valid()) impl_->first.wait();
+}
+
+void BlocksFileWriter::finish() {
+  Impl& m = *impl_;
+  m.first.get();
+  if (m.bs.geometry) {
+    check_geometry(Checker(m.name, kNotWritten), m.bs);
+    write_geometry_group(m.file->f.root(), *m.bs.geometry);
+  }
+  m.file->commit();
 }
 
 FileHeader read_header(const fs::path& in) {
