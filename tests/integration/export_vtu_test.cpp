@@ -138,7 +138,7 @@ TEST_CASE("blocks.vtu reads back with VTK: cells, data and volumes", "[tools][ex
   }
 }
 
-TEST_CASE("slice-export vtu: reruns give the same bytes; bad input is refused",
+TEST_CASE("slice-export vtu: reruns give the same bytes -- bad input is refused",
           "[tools][export][vtu]") {
   test::TempDir tmp;
   const auto geom = test::run_pipeline(tmp, "rock-slope.toml", test::Stage::geometry);
@@ -164,7 +164,7 @@ TEST_CASE("slice-export vtu: reruns give the same bytes; bad input is refused",
   }
 }
 
-TEST_CASE("slice-export vtu: every compressor reads back the same; an unknown one is refused",
+TEST_CASE("slice-export vtu: every compressor reads back the same -- an unknown one is refused",
           "[tools][export][vtu]") {
   test::TempDir tmp;
   const auto geom = test::run_pipeline(tmp, "rock-slope.toml", test::Stage::geometry);

@@ -247,7 +247,7 @@ TEST_CASE("the PotentialBlock model's planes give back the blocks' volumes",
   CHECK(log.find("Traceback") == std::string::npos);
 }
 
-TEST_CASE("slice-export yade: reruns give the same bytes; bad options are refused",
+TEST_CASE("slice-export yade: reruns give the same bytes -- bad options are refused",
           "[tools][export][yade]") {
   test::TempDir tmp;
   const auto geom = test::run_pipeline(tmp, "rock-slope.toml", test::Stage::geometry);

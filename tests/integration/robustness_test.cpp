@@ -296,7 +296,7 @@ TEST_CASE("a hang: coordinates doubles cannot resolve are refused at once", "[ro
   });
 }
 
-TEST_CASE("no failed LP decides anything; --certify re-decides near-threshold decisions",
+TEST_CASE("no failed LP decides anything -- --certify re-decides near-threshold decisions",
           "[robustness][tools]") {
   test::TempDir tmp;
   const std::string joints = test::run_pipeline(tmp, "table3-lognormal.toml", test::Stage::joints);

@@ -13,7 +13,7 @@
 
 using test::run_tool;
 
-TEST_CASE("table3-lognormal: slice-joints, slice-cut, slice-prune; the invariants hold",
+TEST_CASE("table3-lognormal: slice-joints, slice-cut, slice-prune -- the invariants hold",
           "[tools][stochastic]") {
   test::TempDir tmp;
   const auto joints = test::run_pipeline(tmp, "table3-lognormal.toml", test::Stage::joints);

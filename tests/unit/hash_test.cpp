@@ -14,7 +14,7 @@ TEST_CASE("SHA-256 of the FIPS 180-4 examples", "[hash]") {
         "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
 }
 
-TEST_CASE("SHA-256 of a file equals that of its bytes; a missing file is an Error", "[hash]") {
+TEST_CASE("SHA-256 of a file equals that of its bytes -- a missing file is an Error", "[hash]") {
   test::TempDir tmp;
   const std::string text(1000, 'x');
   test::write_text(tmp / "a.txt", text);

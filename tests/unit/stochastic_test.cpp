@@ -471,7 +471,7 @@ TEST_CASE("P32 and P10 targets are met within 2%", "[stochastic][statistics]") {
 
 // ---- Reproducibility ------------------------------------------------------------------------
 
-TEST_CASE("the same scene gives the same joints; appending a set changes no other set",
+TEST_CASE("the same scene gives the same joints -- appending a set changes no other set",
           "[stochastic][reproducibility]") {
   const std::string j1 =
       "[[sets]]\nname = \"J1\"\ndip = 20\ndip_direction = 10\nfisher_kappa = 15\ndensity = 0.02\n"
