@@ -155,6 +155,27 @@ TEST_CASE("pruning keeps exactly the faces the redundancy LPs keep", "[property]
   }
 }
 
+TEST_CASE("every block's bounding sphere is that of its extents", "[property][cut]") {
+  // A piece keeps the extremes its parent reaches inside it (no LP): the spheres must still be
+  // the six extents LPs' on the piece's own faces.
+  const auto seed = GENERATE(range(1u, 1u + static_cast<unsigned>(test::scaled_cases(30))));
+  CAPTURE(seed);
+  const auto js = slice::generate_joints(
+      slice::parse_scene(random_scene(seed, Vec3(-3e4, 2e5, 1e3), 1.0), "random.toml"));
+  const auto r = slice::cut_blocks(js, slice::CutOptions{});
+  CHECK(r.stats.lps.extents < 6 * (2 * r.stats.splits + 1));  // some were inherited
+  const slice::Tolerances tol =
+      slice::Tolerances::from_scale(js.length_scale, js.options.tolerance);
+  auto exact = slice::make_solver(slice::LpBackend::exact);
+  const double eps = 1e-12 * js.length_scale;
+  for (const auto& b : r.blocks.blocks) {
+    const slice::Extents e = slice::extents(*exact, b.faces, tol);
+    REQUIRE(e.status == slice::LpStatus::optimal);
+    CHECK((b.origin + e.centre - b.bsphere.head<3>()).norm() <= eps);
+    CHECK(std::abs(e.radius - b.bsphere[3]) <= eps);
+  }
+}
+
 TEST_CASE("the grid index changes nothing but the work", "[property][cut]") {
   const auto seed = GENERATE(range(1u, 1u + static_cast<unsigned>(test::scaled_cases(10))));
   CAPTURE(seed);

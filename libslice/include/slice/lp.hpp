@@ -159,6 +159,9 @@ struct Extents {
   double radius = 0;
 };
 Extents extents(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol);
+/// The extents LPs' rows in the solver's scratch LP, maximising, objective unset: set c to
+/// +-e_k and solve, as extents() does (for a caller that solves only some of the six).
+DenseLp& extents_lp(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol);
 
 /// Chebyshev centre and inscribed radius (eq. 18): minimise t s.t. a_i . x - d_i <= t,
 /// radius = -t*. A radius <= tol.geometry means the block has no interior.

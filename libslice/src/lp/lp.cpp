@@ -271,13 +271,18 @@ FaceRedundancy face_redundancy(LpSolver& solver, std::span<const Face> faces, st
 }
 
 // Boon et al. 2015, eq. 17: maximise +-e_k . x over the block, six LPs on the same rows.
-Extents extents(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol) {
+DenseLp& extents_lp(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol) {
   const double dmax = check_faces(faces, "extents");
   DenseLp& lp = solver.scratch();
   lp.reset(3);
   lp.maximise = true;
   lp.scale = block_scale(dmax, tol);
   for (const Face& f : faces) lp.add_row(LpVec(f.normal.x(), f.normal.y(), f.normal.z(), 0), f.d);
+  return lp;
+}
+
+Extents extents(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol) {
+  DenseLp& lp = extents_lp(solver, faces, tol);
   Extents out;
   out.status = LpStatus::optimal;
   for (int k = 0; k < 3 && out.status == LpStatus::optimal; ++k) {

@@ -149,12 +149,21 @@ bool may_reach(const PreparedJoint& pj, const Eigen::Vector4d& sphere, double to
   return true;
 }
 
+/// Where a block reaches its six extremes (eq. 17), in its frame: x[2k] maximises coordinate k,
+/// x[2k + 1] minimises it (the extents LPs' optimal points). A piece of the block that still
+/// holds such a point has the same extreme there, without an LP.
+struct Extremes {
+  std::array<Vec3, 6> x;
+};
+
 /// The sequential subdivision of some blocks (its roots: the domain, or those a task was
 /// handed) by joints given one at a time in increasing order.
 class Subdivision {
  public:
-  Subdivision(const CutContext& ctx, std::vector<Block> roots, const Vec3& lo, const Vec3& hi)
-      : blocks(std::move(roots)), ctx_(ctx), lo_(lo), hi_(hi) {
+  Subdivision(const CutContext& ctx, std::vector<Block> roots, std::vector<Extremes> root_extremes,
+              const Vec3& lo, const Vec3& hi)
+      : blocks(std::move(roots)), extremes(std::move(root_extremes)), ctx_(ctx), lo_(lo), hi_(hi) {
+    SLICE_ASSERT(extremes.size() == blocks.size());
     if (ctx_.opt.use_index) rebuild_grid();
   }
 
@@ -172,6 +181,7 @@ class Subdivision {
 
   /// Frees the index once no joint is left (a leaf task: thousands of them hold the blocks).
   void release_index() {
+    std::vector<Extremes>().swap(extremes);  // no split is left to come
     grid_ = SphereGrid();
     std::vector<std::uint32_t>().swap(stamp_);
     std::vector<std::size_t>().swap(candidates_);
@@ -190,27 +200,53 @@ class Subdivision {
 
  public:
   std::vector<Block> blocks;
+  std::vector<Extremes> extremes;  // of each block, while it may still be split
   std::vector<SplitEvent> events;
   std::vector<std::size_t> joints_that_cut;  // increasing
   LpCounts lps;
   std::size_t splits = 0, splits_undone = 0;
   std::size_t tested = 0;  // joint-block pairs given to the cut LP
 
-  /// Sets the bounding sphere of a block (the root's, before a subdivision starts).
-  static bool set_sphere(const CutContext& ctx, LpSolver& solver, Block& b, LpCounts& lps) {
-    const Extents e = extents(solver, b.faces, ctx.tol);
-    lps.extents += 6;
-    if (e.status != LpStatus::optimal) {
-      ++lps.failed;
-      return false;
+  /// Sets the bounding sphere of a block (the root's, before a subdivision starts) and `ext`,
+  /// moving its origin to the centre of its extents. A piece of a split block (`parent`: the
+  /// split block's extremes, `plane`: the piece's new face, both in the piece's frame) keeps
+  /// each extreme its parent reaches at a point well inside the piece (eq. 17's LPs for the
+  /// others only: about half of them on the Table 3 scene).
+  static bool set_sphere(const CutContext& ctx, LpSolver& solver, Block& b, LpCounts& lps,
+                         Extremes& ext, const Extremes* parent = nullptr,
+                         const Plane* plane = nullptr) {
+    DenseLp* lp = nullptr;
+    Vec3 lo, hi;
+    for (int k = 0; k < 6; ++k) {
+      const int axis = k / 2;
+      const double sign = k % 2 == 0 ? 1.0 : -1.0;
+      if (parent && plane->distance(parent->x[std::size_t(k)]) < -ctx.tol.geometry) {
+        ext.x[std::size_t(k)] = parent->x[std::size_t(k)];
+      } else {
+        if (!lp) lp = &extents_lp(solver, b.faces, ctx.tol);
+        lp->c.setZero();
+        lp->c[axis] = sign;
+        const LpResult r = solver.solve(*lp);
+        ++lps.extents;
+        if (r.status != LpStatus::optimal) {
+          ++lps.failed;
+          return false;
+        }
+        ext.x[std::size_t(k)] = r.x.head<3>();
+        // The objective is the extent; the point's coordinate may differ by rounding.
+        ext.x[std::size_t(k)][axis] = sign * r.objective;
+      }
+      (sign > 0 ? hi : lo)[axis] = ext.x[std::size_t(k)][axis];
     }
-    move_origin(b, e.centre);
-    b.bsphere << b.origin, e.radius;
+    const Vec3 centre = 0.5 * (lo + hi);
+    move_origin(b, centre);
+    for (Vec3& x : ext.x) x -= centre;
+    b.bsphere << b.origin, 0.5 * (hi - lo).norm();
     // A face whose half-space holds the block's whole bounding box (half sizes h about the
     // origin) cannot touch the block: dropping it changes no geometry and keeps the LPs small
     // (without this, a block inherits every face of its ancestors: ~100 rows per LP on the
     // Table 3 scene). Faces that touch the box but not the block are left to prune_blocks.
-    const Vec3 h = (e.max - e.min) / 2;
+    const Vec3 h = (hi - lo) / 2;
     std::erase_if(b.faces, [&](const Face& f) {
       return f.normal.cwiseAbs().dot(h) < f.d - ctx.tol.geometry;
     });
@@ -325,7 +361,10 @@ class Subdivision {
     below.faces.push_back({plane.normal, plane.d, std::int64_t(j)});
     above.faces.push_back({-plane.normal, -plane.d, std::int64_t(j)});
     LpSolver& solver = referee.solver();
-    if (!set_sphere(ctx_, solver, below, lps) || !set_sphere(ctx_, solver, above, lps))
+    const Plane flipped{-plane.normal, -plane.d};
+    Extremes ext_below, ext_above;
+    if (!set_sphere(ctx_, solver, below, lps, ext_below, &extremes[i], &plane) ||
+        !set_sphere(ctx_, solver, above, lps, ext_above, &extremes[i], &flipped))
       return false;
     // An exempt joint (limits = false, e.g. a construction joint outlining an excavation)
     // keeps its cuts: its thin pieces cluster with their neighbours across it.
@@ -340,6 +379,8 @@ class Subdivision {
     ++splits;
     blocks[i] = std::move(below);
     blocks.push_back(std::move(above));
+    extremes[i] = ext_below;
+    extremes.push_back(ext_above);
     events.push_back({j, i, blocks.size() - 1});
     if (ctx_.opt.use_index) {
       grid_.update(i, blocks[i].bsphere);
@@ -376,8 +417,9 @@ void add(LpCounts& a, const LpCounts& b) {
 /// A node of the task tree: a subdivision, the joints it is to cut by and, once it has split,
 /// the child tasks that hold its blocks.
 struct Task {
-  Task(const CutContext& ctx, std::vector<Block> roots, const Vec3& lo, const Vec3& hi)
-      : sub(ctx, std::move(roots), lo, hi) {}
+  Task(const CutContext& ctx, std::vector<Block> roots, std::vector<Extremes> extremes,
+       const Vec3& lo, const Vec3& hi)
+      : sub(ctx, std::move(roots), std::move(extremes), lo, hi) {}
   Subdivision sub;
   std::vector<std::size_t> joints;              // increasing
   std::vector<std::size_t> from;                // per root: its number in the parent task
@@ -527,7 +569,7 @@ class Cutter {
     throw Error("/joints", buf, max_blocks_fix());
   }
 
-  Block domain_block() {
+  Block domain_block(Extremes& ext) {
     const PolytopeInfo info = analyse_polytope(js_.domain.planes, ctx_.tol.geometry);
     if (!info.bounded || !info.has_interior)
       throw Error("/domain", "the domain is empty or unbounded", "regenerate it with slice-joints");
@@ -541,7 +583,7 @@ class Cutter {
       const Plane l = to_local(p, b.origin);
       b.faces.push_back({l.normal, l.d, -1});
     }
-    if (!Subdivision::set_sphere(ctx_, referees_.local().solver(), b, stats_.lps))
+    if (!Subdivision::set_sphere(ctx_, referees_.local().solver(), b, stats_.lps, ext))
       throw Error("/domain", "the domain's extents LP failed", "check the domain");
     return b;
   }
@@ -550,8 +592,9 @@ class Cutter {
   void subdivide() {
     const std::size_t joints = js_.joints.size();
     std::vector<Block> domain;
-    domain.push_back(domain_block());  // sets domain_lo_, domain_hi_
-    Task root(ctx_, std::move(domain), domain_lo_, domain_hi_);
+    std::vector<Extremes> extremes(1);
+    domain.push_back(domain_block(extremes[0]));  // sets domain_lo_, domain_hi_
+    Task root(ctx_, std::move(domain), std::move(extremes), domain_lo_, domain_hi_);
     root.joints.resize(joints);
     std::iota(root.joints.begin(), root.joints.end(), std::size_t(0));
     std::atomic<std::int64_t> total{1};
@@ -670,6 +713,7 @@ class Cutter {
     for (std::size_t i = 0; i < n; ++i) members[group_of[i]].push_back(i);
     for (std::size_t g = 0; g < groups; ++g) {
       std::vector<Block> roots;
+      std::vector<Extremes> extremes;
       Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
       for (const std::size_t i : members[g]) {
         const Vec3 c = sub.blocks[i].bsphere.head<3>();
@@ -677,9 +721,10 @@ class Cutter {
         lo = lo.cwiseMin(c - r);
         hi = hi.cwiseMax(c + r);
         roots.push_back(std::move(sub.blocks[i]));
+        extremes.push_back(sub.extremes[i]);
       }
-      auto child = std::make_unique<Task>(ctx_, std::move(roots), lo.cwiseMax(sub.lo()),
-                                          hi.cwiseMin(sub.hi()));
+      auto child = std::make_unique<Task>(ctx_, std::move(roots), std::move(extremes),
+                                          lo.cwiseMax(sub.lo()), hi.cwiseMin(sub.hi()));
       child->from = std::move(members[g]);
       child->joints = std::move(lists[g]);
       task.children.push_back(std::move(child));
