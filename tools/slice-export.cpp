@@ -1,9 +1,12 @@
-// slice-export: geom.h5 (blocks with /geometry) -> blocks.vtu for ParaView, or a YADE script.
+// slice-export: geom.h5 (blocks with /geometry) -> blocks.vtu for ParaView, a YADE script, or a
+// 3DEC grid with the command file that imports it.
+#include <filesystem>
 #include <map>
 #include <string>
 
 #include "common/tool.hpp"
 #include "slice/error.hpp"
+#include "slice/export_3dec.hpp"
 #include "slice/export_vtu.hpp"
 #include "slice/export_yade.hpp"
 #include "slice/h5io.hpp"
@@ -15,7 +18,11 @@ int main(int argc, char** argv) {
   slice::YadeOptions yade;  // defaults live in the library
   t.cli.add_option("geometry", in, "geom.h5 from slice-vertices")->required();
   t.cli.add_option("-o,--output", out, "output file (blocks.vtu, model.py)")->required();
-  t.cli.add_option("--format", format, "vtu | yade | yade-potential-blocks")->capture_default_str();
+  t.cli.add_option("--format", format, "vtu | yade | yade-potential-blocks | 3dec")
+      ->capture_default_str();
+  std::string commands;
+  t.cli.add_option("--3dec-commands", commands,
+                   "3dec: the command file that imports the grid (default: -o with .dat)");
   t.cli.add_option("--joints", joints, "vtu: also write the joints inside the domain to this VTU");
   std::string compressor = "lz4";
   t.cli
@@ -46,12 +53,20 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   t.add_threads_option();
   return t.run(argc, argv, [&] {
-    tool::check_distinct_paths({{"geometry", in, false}, {"-o", out}, {"--joints", joints}});
-    if (format != "vtu" && format != "yade" && format != "yade-potential-blocks")
+    if (format != "vtu" && format != "yade" && format != "yade-potential-blocks" &&
+        format != "3dec")
       throw slice::Error("--format " + format, "unknown format",
-                         "use vtu, yade or yade-potential-blocks");
+                         "use vtu, yade, yade-potential-blocks or 3dec");
     if (!joints.empty() && format != "vtu")
       throw slice::Error("--joints", "is for --format vtu", "drop it or export VTU");
+    if (!commands.empty() && format != "3dec")
+      throw slice::Error("--3dec-commands", "is for --format 3dec", "drop it or export 3DEC");
+    if (format == "3dec" && commands.empty())
+      commands = std::filesystem::path(out).replace_extension(".dat").string();
+    tool::check_distinct_paths({{"geometry", in, false},
+                                {"-o", out},
+                                {"--joints", joints},
+                                {"--3dec-commands", commands}});
     yade.validate();
     const auto vtu_compressor = slice::parse_vtu_compressor(compressor, "--vtu-compressor");
     const slice::BlockSystem bs = slice::read_blocks(in);
@@ -67,6 +82,15 @@ int main(int argc, char** argv) {
         t.say(std::to_string(js.cells) + " joints (" + std::to_string(js.skipped) +
               " outside the domain left out) -> " + joints);
       }
+      return;
+    }
+    if (format == "3dec") {
+      const auto st = slice::write_3dec(out, commands, bs);
+      t.say(std::to_string(st.blocks) + " blocks (" + std::to_string(st.removed) +
+            " removed left out), " + std::to_string(st.faces) + " faces, " +
+            std::to_string(st.contacts) + " joint contacts -> " + out);
+      t.say(std::to_string(st.fixed) + " blocks in group boundary (fixed), " +
+            std::to_string(st.clusters) + " cluster groups -> " + commands);
       return;
     }
     yade.shape =
