@@ -136,7 +136,7 @@ struct CutContext {
 
 std::string max_blocks_fix() {
   return "raise max_blocks ([options] max_blocks in the scene, or slice-cut --max-blocks) if "
-         "the machine has the memory (about 1.6 kB a block at slice-cut's peak), or cut less: "
+         "the machine has the memory (about 1.4 kB a block at slice-cut's peak), or cut less: "
          "a larger spacing, fewer joints, a smaller domain";
 }
 
