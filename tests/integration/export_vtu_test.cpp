@@ -56,8 +56,8 @@ double cell_volume(vtkCell* cell) {
 }  // namespace
 
 TEST_CASE("blocks.vtu reads back with VTK: cells, data and volumes", "[tools][export][vtu]") {
-  const std::string scene =
-      GENERATE(as<std::string>{}, "cube-3sets.toml", "rock-slope.toml", "table3-persistent.toml");
+  const std::string scene = GENERATE(as<std::string>{}, "cube-3sets.toml", "rock-slope.toml",
+                                     "table3-persistent.toml", "tunnel.toml");
   CAPTURE(scene);
   test::TempDir tmp;
   const auto geom = test::run_pipeline(tmp, scene, test::Stage::geometry);

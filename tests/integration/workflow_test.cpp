@@ -1,9 +1,11 @@
 // Issue 13: the paper's slope and tunnel workflow end to end (section 3.4, Fig. 24) on
 // data/tunnel.toml and data/slope.toml, through the real tools: boundary joints (stage 1), rock
 // joints (stage 2), construction joints outlining the opening or the free surface (stage 3,
-// limits = false), clusters, removal. The YADE run of both is in export_yade_test.cpp.
+// limits = false; the tunnel's come from its zone, cut = true), clusters, removal. The YADE run of
+// both is in export_yade_test.cpp.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <numbers>
 #include <set>
 #include <string>
 
@@ -24,10 +26,12 @@ struct Workflow {
 
 TEST_CASE("the tunnel and the slope built the paper's way keep their outline",
           "[tools][workflow]") {
-  // Octagon of circumradius 4 m, 20 m long: 2 sqrt(2) R^2 L. The air above the slope: 20 m
-  // wide, (20 x 20 / 2 + 20 x 20) m2 across.
-  const Workflow w = GENERATE(Workflow{"tunnel.toml", 2 * std::sqrt(2.0) * 16 * 20},
-                              Workflow{"slope.toml", 600.0 * 20});
+  // The 16-gon about a circle of radius 4 m (a [[zones]] tunnel, cut = true), 20 m of it inside
+  // the domain: n R^2 tan(pi / n) L. The air above the slope: 20 m wide, (20 x 20 / 2 + 20 x 20)
+  // m2 across.
+  const Workflow w =
+      GENERATE(Workflow{"tunnel.toml", 16 * 16 * std::tan(std::numbers::pi / 16) * 20},
+               Workflow{"slope.toml", 600.0 * 20});
   CAPTURE(w.scene);
   test::TempDir tmp;
   const auto geom = test::run_pipeline(tmp, w.scene, test::Stage::geometry);

@@ -58,8 +58,8 @@ struct Region {
 
 /// Slicing options from the scene's [options] and [scene] tables.
 /// The default [options] max_blocks: about 2.8 GB and 10 s at slice-cut's peak (1.4 kB and
-/// 5 us a block on 2 threads, measured at 964,156 blocks), so a typo (a spacing of 1e-4 for 1) is refused
-/// in seconds instead of running for minutes; bigger jobs raise it.
+/// 5 us a block on 2 threads, measured at 964,156 blocks), so a typo (a spacing of 1e-4 for 1) is
+/// refused in seconds instead of running for minutes; bigger jobs raise it.
 inline constexpr std::int64_t kDefaultMaxBlocks = 2'000'000;
 
 /// The faces of the domain's bounding box, in the order of box_planes: -x +x -y +y -z +z.
@@ -180,10 +180,11 @@ struct Scene {
   std::int64_t max_joints = kDefaultMaxJoints;  // per stochastic set, joints drawn
   Region domain;
   SliceOptions options;
-  std::vector<Joint> joints;  // [[joints]], in file order
+  std::vector<Joint> joints;  // [[joints]], in file order, then the construction joints of
+                              // [[zones]] tunnels with cut = true (tunnel.hpp), zone by zone
   std::vector<JointSetSpec> sets;
-  std::vector<Region> zones;
-  std::vector<EntryPlace> joint_places;  // one per [[joints]] entry
+  std::vector<Region> zones;             // a [[zones]] tunnel may give several (tunnel_regions)
+  std::vector<EntryPlace> joint_places;  // one per joint: its [[joints]] entry or its zone
   std::vector<EntryPlace> set_places;    // one per [[sets]] entry
 };
 
@@ -202,7 +203,7 @@ struct JointSystem {
 /// The keys a scene file's tables accept, from the lists the parser checks them against (for
 /// docs/scenes.md and the test that it names them all). `table` is "" for the top level, whose
 /// keys are the tables, or a table: "scene", "domain", "options", "joints", "sets", "zones";
-/// `within` is "" or an inline table of it ("box", "planes", "size", "scanline").
+/// `within` is "" or an inline table of it ("box", "planes", "size", "scanline", "tunnel").
 struct SceneKeys {
   std::string_view table;
   std::string_view within;

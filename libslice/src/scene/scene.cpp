@@ -28,6 +28,7 @@
 #include "slice/orientation.hpp"
 #include "slice/polytope.hpp"
 #include "slice/stochastic.hpp"
+#include "slice/tunnel.hpp"
 
 namespace slice {
 
@@ -97,6 +98,12 @@ constexpr std::array<std::string_view, 6> kTopTables = {"scene",  "domain", "opt
                                                         "joints", "sets",   "zones"};
 constexpr std::array<std::string_view, 4> kSceneKeys = {"name", "seed", "tolerance", "max_joints"};
 constexpr std::array<std::string_view, 2> kRegionKeys = {"box", "planes"};
+// A zone is a region or a tunnel; `cut` and `stage` apply to tunnels.
+constexpr std::array<std::string_view, 5> kZoneKeys = {"box", "planes", "tunnel", "cut", "stage"};
+constexpr std::array<std::string_view, 6> kTunnelKeys = {"point",  "direction", "length",
+                                                         "radius", "sides",     "outline"};
+// A tunnel's default number of sides: the 16-gon's area is 1.3 % above its inscribed circle's.
+constexpr std::int64_t kDefaultTunnelSides = 16;
 constexpr std::array<std::string_view, 2> kBoxKeys = {"min", "max"};
 constexpr std::array<std::string_view, 2> kPlaneKeys = {"normal", "d"};
 constexpr std::array<std::string_view, 5> kOptionKeys = {
@@ -501,9 +508,9 @@ std::vector<double> set_planes(const JointSetSpec& s, const std::vector<Vec3>& v
   return c;
 }
 
-Region read_region(const Tbl& t) {
+// The region of a table with `box` or `planes` (its keys already checked).
+Region region_of(const Tbl& t) {
   const Reader& r = t.r;
-  t.check_keys(kRegionKeys);
   const toml::node* box = t.find("box");
   const toml::node* planes = t.find("planes");
   const std::string both =
@@ -548,6 +555,11 @@ Region read_region(const Tbl& t) {
     region.planes.push_back({n / len, d / len});
   }
   return region;
+}
+
+Region read_region(const Tbl& t) {
+  t.check_keys(kRegionKeys);
+  return region_of(t);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1097,6 +1109,235 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
   return s;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Zones
+
+// What a [[zones]] entry makes: removal regions and, for a tunnel with cut = true, the
+// construction joints along its surface, all introduced at `place`.
+struct ZoneEntry {
+  std::vector<Region> regions;
+  std::vector<Joint> joints;
+  EntryPlace place;
+};
+
+// A tunnel's cross-section: the regular polygon about its circle (radius, sides), or `outline`.
+std::vector<Vec2> read_section(const Context& cx, const Tbl& t) {
+  const Reader& r = t.r;
+  const toml::node* radius = t.find("radius");
+  const toml::node* outline = t.find("outline");
+  if (radius && outline)
+    r.fail(*outline, t.ctx + " gives both 'radius' and 'outline'",
+           "keep one: radius (and sides) for a round tunnel, outline = [[u, v], ...] for any "
+           "other section");
+  if (!radius && !outline)
+    r.fail(t.t, "missing key 'radius' (or 'outline') in " + t.ctx,
+           "add radius = <the round tunnel's radius> (and sides = n, default " +
+               std::to_string(kDefaultTunnelSides) +
+               "), or outline = [[u, v], ...], the section in the tunnel's (u, v) frame");
+  const std::string sides_fix = "give the number of sides of the polygon about the tunnel's " +
+                                std::string("circle, 3 to ") + std::to_string(kMaxSides);
+  if (radius) {
+    const double inradius = positive(t, "radius", "give the tunnel's radius, a length > 0");
+    std::int64_t sides = kDefaultTunnelSides;
+    if (const toml::node* n = t.find("sides")) {
+      sides = to_integer(r, *n, t.label("sides"));
+      if (sides < 3 || sides > kMaxSides)
+        r.fail(*n,
+               t.label("sides") + " is " + std::to_string(sides) + ", outside [3, " +
+                   std::to_string(kMaxSides) + "]",
+               sides_fix);
+    }
+    return regular_outline(inradius, sides);
+  }
+  if (const toml::node* n = t.find("sides"))
+    r.fail(*n, t.label("sides") + " applies to a round tunnel (radius), not to an outline",
+           "remove 'sides': the outline's vertices are its corners");
+  const auto* a = outline->as_array();
+  if (!a)
+    r.fail(*outline, t.label("outline") + " must be an array of [u, v], not " + type_name(*outline),
+           "write outline = [[u1, v1], [u2, v2], ...]");
+  if (a->size() > static_cast<std::size_t>(kMaxSides))
+    r.fail(*outline,
+           t.label("outline") + " has " + std::to_string(a->size()) + " vertices, more than " +
+               std::to_string(kMaxSides),
+           "give the section's corners, at most " + std::to_string(kMaxSides));
+  std::vector<Vec2> uv;
+  std::vector<const toml::node*> where;
+  for (const auto& e : *a) {
+    uv.push_back(to_vector<2>(
+        r, e, "vertex " + std::to_string(uv.size() + 1) + " of " + t.label("outline")));
+    where.push_back(&e);
+  }
+  if (const auto bad = check_outline(uv, cx.tol()))
+    r.fail(bad->vertex ? *where[*bad->vertex] : *outline, t.label("outline") + " " + bad->what,
+           bad->fix);
+  return uv;
+}
+
+Tunnel read_tunnel(const Context& cx, const Tbl& zone, const toml::node& node) {
+  const Reader& r = zone.r;
+  const Tbl t{r,
+              as_table(r, node, zone.label("tunnel"),
+                       "write tunnel = { point = [x, y, z], direction = [dx, dy, dz], length = L, "
+                       "radius = R }"),
+              "'tunnel' of " + zone.ctx};
+  t.check_keys(kTunnelKeys);
+  Tunnel tun;
+  tun.point = to_vector<3>(r, t.require("point", "add point = [x, y, z], where the axis starts"),
+                           t.label("point"));
+  const toml::node& dn =
+      t.require("direction", "add direction = [dx, dy, dz], the axis direction from 'point'");
+  const Vec3 d = to_vector<3>(r, dn, t.label("direction"));
+  const double len = d.norm();
+  if (!(len > 0) || !std::isfinite(len))
+    r.fail(dn, t.label("direction") + " is " + fmt(d) + ", which has no direction",
+           "give the axis direction, e.g. [0, 1, 0] for a tunnel driven North");
+  tun.direction = d / len;
+  t.require("length", "add length = L, the tunnel's length along its axis from 'point'");
+  tun.length = positive(t, "length", "give the tunnel's length along its axis, > 0");
+  tun.outline = read_section(cx, t);
+  return tun;
+}
+
+// True if one of the regions has volume inside the domain.
+bool meets_domain(const Context& cx, std::span<const Region> regions) {
+  return std::any_of(regions.begin(), regions.end(), [&](const Region& z) {
+    std::vector<Plane> both = z.planes;
+    both.insert(both.end(), cx.box.planes.begin(), cx.box.planes.end());
+    return analyse_polytope(both, cx.tol()).has_interior;
+  });
+}
+
+// A [[zones]] entry: box, planes or tunnel. `default_stage` is the stage of a cut tunnel's
+// joints without `stage`; `entry` orders entries on one line (EntryPlace).
+ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
+                    std::int64_t default_stage, std::int64_t entry) {
+  const Reader& r = cx.r;
+  const Tbl t{r, tt, "[[zones]] #" + std::to_string(index + 1)};
+  t.check_keys(kZoneKeys);
+  ZoneEntry z;
+  const toml::node* tunnel = t.find("tunnel");
+  const toml::node* stage = t.find("stage");
+  std::string_view which;
+  bool in_domain = false;
+  if (!tunnel) {
+    if (const toml::node* n =
+            first_present(t, std::array<std::string_view, 2>{"cut", "stage"}, &which))
+      r.fail(*n, t.label(which) + " applies to tunnel zones only",
+             "remove " + quote_key(which) + ", or give the zone as tunnel = { ... }");
+    if (!t.find("box") && !t.find("planes"))
+      r.fail(tt, t.ctx + " has none of 'box', 'planes' and 'tunnel'",
+             "add box = { min = [x, y, z], max = [x, y, z] }, planes = [ { normal = [nx, ny, "
+             "nz], d = d }, ... ] or tunnel = { point = [x, y, z], direction = [dx, dy, dz], "
+             "length = L, radius = R }");
+    z.regions.push_back(region_of(t));
+    in_domain = meets_domain(cx, z.regions);
+  } else {
+    if (const toml::node* n = first_present(t, kRegionKeys, &which))
+      r.fail(*n, t.ctx + " gives both 'tunnel' and " + quote_key(which), "keep one of them");
+    bool cut = false;
+    if (const toml::node* n = t.find("cut")) {
+      const auto* b = n->as_boolean();
+      if (!b)
+        r.fail(*n, t.label("cut") + " must be true or false, not " + type_name(*n),
+               "write cut = true to cut the tunnel's surface into the rock before removal");
+      cut = b->get();
+    }
+    if (stage && !cut)
+      r.fail(*stage,
+             t.label("stage") + " applies with cut = true: without it the zone adds no joints",
+             "add cut = true, or remove 'stage'");
+    const Tunnel tun = read_tunnel(cx, t, *tunnel);
+    z.regions = tunnel_regions(tun, cx.tol());
+    if (cut) z.joints = tunnel_joints(tun, cx.box.planes, cx.tol());
+    // The fan's prisms have a few planes each; a convex region of up to 1000 sides is too many
+    // for analyse_polytope (O(planes^4)).
+    in_domain = meets_domain(cx, tunnel_fan(tun, 0));
+  }
+  // A zone may be unbounded (e.g. "everything above z = 50"): only its part inside the domain
+  // matters, and that must have volume, else it removes nothing and is surely a slip.
+  if (!in_domain)
+    r.fail(tt, t.ctx + " has no volume inside the domain, so it would remove nothing",
+           "check its coordinates against the domain (and that plane normals point out of "
+           "the zone)");
+  z.place = read_place(r, tt, t.ctx, entry);
+  if (!stage) z.place.stage = default_stage;
+  return z;
+}
+
+// [scene]: name, seed, max_joints, tolerance.
+void read_scene_table(const Reader& r, const toml::table& st, Scene& scene) {
+  const Tbl t{r, st, "[scene]"};
+  t.check_keys(kSceneKeys);
+  if (const toml::node* n = t.find("name")) scene.name = to_text(r, *n, t.label("name"));
+  if (const toml::node* n = t.find("seed")) {
+    const auto* i = n->as_integer();
+    if (!i)
+      r.fail(*n, t.label("seed") + " must be an integer, not " + type_name(*n),
+             "write a whole number >= 0 without quotes or decimals");
+    if (i->get() < 0)
+      r.fail(*n, t.label("seed") + " is " + std::to_string(i->get()) + ", below 0",
+             "give a seed >= 0");
+    scene.seed = static_cast<std::uint64_t>(i->get());
+  }
+  if (const toml::node* n = t.find("max_joints")) {
+    scene.max_joints = to_integer(r, *n, t.label("max_joints"));
+    if (scene.max_joints < 1)
+      r.fail(*n, t.label("max_joints") + " is " + std::to_string(scene.max_joints) + ", below 1",
+             "give the most joints one stochastic set may draw, >= 1 (default " +
+                 std::to_string(kDefaultMaxJoints) + ")");
+  }
+  scene.options.tolerance = number(t, "tolerance", 1e-9);
+  if (!(scene.options.tolerance > 0 && scene.options.tolerance < 1))
+    r.fail(*t.find("tolerance"),
+           t.label("tolerance") + " is " + fmt(scene.options.tolerance) + ", outside (0, 1)",
+           "give a small positive number relative to the domain size, e.g. 1e-9");
+}
+
+// [options]: order, limits, max_blocks, fixed_faces.
+void read_options(const Reader& r, const toml::table& ot, Scene& scene) {
+  const Tbl t{r, ot, "[options]"};
+  t.check_keys(kOptionKeys);
+  if (const toml::node* n = t.find("order"))
+    scene.options.order =
+        static_cast<JointOrder>(to_choice(r, *n, t.label("order"), kJointOrderNames));
+  const double dmin = number(t, "min_inscribed_diameter", 0);
+  if (dmin < 0)
+    r.fail(*t.find("min_inscribed_diameter"),
+           t.label("min_inscribed_diameter") + " is " + fmt(dmin) + ", below 0",
+           "give a length >= 0 (0: no size limit)");
+  scene.options.min_inscribed_diameter = dmin;
+  const double amax = number(t, "max_aspect_ratio", 0);
+  if (amax < 0 || (amax > 0 && amax < 1))
+    r.fail(*t.find("max_aspect_ratio"),
+           t.label("max_aspect_ratio") + " is " + fmt(amax) + "; it must be 0 (none) or >= 1",
+           "give 0 for no shape limit, or a ratio >= 1 (bounding radius / inscribed radius)");
+  scene.options.max_aspect_ratio = amax;
+  if (const toml::node* n = t.find("max_blocks")) {
+    scene.options.max_blocks = to_integer(r, *n, t.label("max_blocks"));
+    if (scene.options.max_blocks < 1)
+      r.fail(
+          *n,
+          t.label("max_blocks") + " is " + std::to_string(scene.options.max_blocks) + ", below 1",
+          "give the most blocks slice-cut may make, >= 1 (default " +
+              std::to_string(kDefaultMaxBlocks) + ")");
+  }
+  if (const toml::node* n = t.find("fixed_faces")) {
+    const std::string label = t.label("fixed_faces");
+    const auto* a = n->as_array();
+    if (!a)
+      r.fail(*n, label + " must be an array of face names, not " + type_name(*n),
+             "write e.g. fixed_faces = [\"-z\", \"+x\"]");
+    for (const toml::node& f : *a) {
+      const std::size_t k = to_choice(r, f, label, kBoxFaceNames);
+      if (scene.options.fixed_faces & (1u << k))
+        r.fail(f, label + " names \"" + std::string(kBoxFaceNames[k]) + "\" twice",
+               "name each face once");
+      scene.options.fixed_faces |= static_cast<std::uint8_t>(1u << k);
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<SceneKeys> scene_keys() {
@@ -1119,9 +1360,10 @@ std::vector<SceneKeys> scene_keys() {
           {"sets", "", list(kSetKeys)},
           {"sets", "size", std::move(size)},
           {"sets", "scanline", list(kScanlineKeys)},
-          {"zones", "", list(kRegionKeys)},
+          {"zones", "", list(kZoneKeys)},
           {"zones", "box", list(kBoxKeys)},
-          {"zones", "planes", list(kPlaneKeys)}};
+          {"zones", "planes", list(kPlaneKeys)},
+          {"zones", "tunnel", list(kTunnelKeys)}};
 }
 
 Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
@@ -1195,33 +1437,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
   Scene scene;
   scene.source = name;
   scene.name = name.stem().string();
-  if (const toml::table* st = single("scene")) {
-    const Tbl t{r, *st, "[scene]"};
-    t.check_keys(kSceneKeys);
-    if (const toml::node* n = t.find("name")) scene.name = to_text(r, *n, t.label("name"));
-    if (const toml::node* n = t.find("seed")) {
-      const auto* i = n->as_integer();
-      if (!i)
-        r.fail(*n, t.label("seed") + " must be an integer, not " + type_name(*n),
-               "write a whole number >= 0 without quotes or decimals");
-      if (i->get() < 0)
-        r.fail(*n, t.label("seed") + " is " + std::to_string(i->get()) + ", below 0",
-               "give a seed >= 0");
-      scene.seed = static_cast<std::uint64_t>(i->get());
-    }
-    if (const toml::node* n = t.find("max_joints")) {
-      scene.max_joints = to_integer(r, *n, t.label("max_joints"));
-      if (scene.max_joints < 1)
-        r.fail(*n, t.label("max_joints") + " is " + std::to_string(scene.max_joints) + ", below 1",
-               "give the most joints one stochastic set may draw, >= 1 (default " +
-                   std::to_string(kDefaultMaxJoints) + ")");
-    }
-    scene.options.tolerance = number(t, "tolerance", 1e-9);
-    if (!(scene.options.tolerance > 0 && scene.options.tolerance < 1))
-      r.fail(*t.find("tolerance"),
-             t.label("tolerance") + " is " + fmt(scene.options.tolerance) + ", outside (0, 1)",
-             "give a small positive number relative to the domain size, e.g. 1e-9");
-  }
+  if (const toml::table* st = single("scene")) read_scene_table(r, *st, scene);
 
   // Domain first: every tolerance below scales with its size.
   const toml::table* dt = single("domain");
@@ -1254,48 +1470,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
   cx.box = domain_box(scene.domain, cx.domain_info, scene.options.tolerance);
   cx.max_joints = scene.max_joints;
 
-  if (const toml::table* ot = single("options")) {
-    const Tbl t{r, *ot, "[options]"};
-    t.check_keys(kOptionKeys);
-    if (const toml::node* n = t.find("order"))
-      scene.options.order =
-          static_cast<JointOrder>(to_choice(r, *n, t.label("order"), kJointOrderNames));
-    const double dmin = number(t, "min_inscribed_diameter", 0);
-    if (dmin < 0)
-      r.fail(*t.find("min_inscribed_diameter"),
-             t.label("min_inscribed_diameter") + " is " + fmt(dmin) + ", below 0",
-             "give a length >= 0 (0: no size limit)");
-    scene.options.min_inscribed_diameter = dmin;
-    const double amax = number(t, "max_aspect_ratio", 0);
-    if (amax < 0 || (amax > 0 && amax < 1))
-      r.fail(*t.find("max_aspect_ratio"),
-             t.label("max_aspect_ratio") + " is " + fmt(amax) + "; it must be 0 (none) or >= 1",
-             "give 0 for no shape limit, or a ratio >= 1 (bounding radius / inscribed radius)");
-    scene.options.max_aspect_ratio = amax;
-    if (const toml::node* n = t.find("max_blocks")) {
-      scene.options.max_blocks = to_integer(r, *n, t.label("max_blocks"));
-      if (scene.options.max_blocks < 1)
-        r.fail(
-            *n,
-            t.label("max_blocks") + " is " + std::to_string(scene.options.max_blocks) + ", below 1",
-            "give the most blocks slice-cut may make, >= 1 (default " +
-                std::to_string(kDefaultMaxBlocks) + ")");
-    }
-    if (const toml::node* n = t.find("fixed_faces")) {
-      const std::string label = t.label("fixed_faces");
-      const auto* a = n->as_array();
-      if (!a)
-        r.fail(*n, label + " must be an array of face names, not " + type_name(*n),
-               "write e.g. fixed_faces = [\"-z\", \"+x\"]");
-      for (const toml::node& f : *a) {
-        const std::size_t k = to_choice(r, f, label, kBoxFaceNames);
-        if (scene.options.fixed_faces & (1u << k))
-          r.fail(f, label + " names \"" + std::string(kBoxFaceNames[k]) + "\" twice",
-                 "name each face once");
-        scene.options.fixed_faces |= static_cast<std::uint8_t>(1u << k);
-      }
-    }
-  }
+  if (const toml::table* ot = single("options")) read_options(r, *ot, scene);
 
   const auto joints = multi("joints");
   for (std::size_t i = 0; i < joints.size(); ++i) {
@@ -1313,20 +1488,20 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
                                           static_cast<std::int64_t>(joints.size() + i)));
   }
 
+  // A cut tunnel's joints come after every [[joints]] and [[sets]] entry unless given a stage:
+  // the paper's order, construction joints after the rock joints (section 3.4).
+  std::int64_t last_stage = 0;
+  for (const auto* places : {&scene.joint_places, &scene.set_places})
+    for (const EntryPlace& p : *places) last_stage = std::max(last_stage, p.stage);
   const auto zones = multi("zones");
   for (std::size_t i = 0; i < zones.size(); ++i) {
-    const Tbl t{r, *zones[i], "[[zones]] #" + std::to_string(i + 1)};
-    Region zone = read_region(t);
-    // A zone may be unbounded (e.g. "everything above z = 50"): only its part inside the domain
-    // matters, and that must have volume, else it removes nothing and is surely a slip.
-    std::vector<Plane> both = zone.planes;
-    both.insert(both.end(), scene.domain.planes.begin(), scene.domain.planes.end());
-    const PolytopeInfo in = analyse_polytope(both, cx.tol());
-    if (!in.has_interior)
-      r.fail(*zones[i], t.ctx + " has no volume inside the domain, so it would remove nothing",
-             "check its coordinates against the domain (and that plane normals point out of "
-             "the zone)");
-    scene.zones.push_back(std::move(zone));
+    ZoneEntry z = read_zone(cx, *zones[i], i, last_stage + 1,
+                            static_cast<std::int64_t>(joints.size() + sets.size() + i));
+    std::move(z.regions.begin(), z.regions.end(), std::back_inserter(scene.zones));
+    for (Joint& j : z.joints) {
+      scene.joints.push_back(std::move(j));
+      scene.joint_places.push_back(z.place);
+    }
   }
   return scene;
 }
