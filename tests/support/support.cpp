@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <stdexcept>
 
 namespace test {
@@ -86,6 +87,22 @@ long scaled_cases(long full, long granule) {
   const double groups =
       std::round(static_cast<double>(full) * property_scale() / static_cast<double>(granule));
   return std::max(1L, static_cast<long>(groups)) * granule;
+}
+
+std::string ascii_stl(const slice::TriangleMesh& mesh) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "solid mesh\n";
+  for (const auto& t : mesh.triangles) {
+    s << " facet normal 0 0 0\n  outer loop\n";
+    for (const auto k : t) {
+      const slice::Vec3& x = mesh.vertices[std::size_t(k)];
+      s << "   vertex " << x.x() << ' ' << x.y() << ' ' << x.z() << "\n";
+    }
+    s << "  endloop\n endfacet\n";
+  }
+  s << "endsolid mesh\n";
+  return s.str();
 }
 
 }  // namespace test

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "slice/mesh.hpp"
+
 namespace test {
 
 namespace fs = std::filesystem;
@@ -31,6 +33,9 @@ fs::path test_data_path(const std::string& name);
 void write_text(const fs::path& file, const std::string& text);
 /// The whole content of a file, as bytes.
 std::string read_bytes(const fs::path& file);
+
+/// An ASCII STL file of the mesh's triangles (for the mesh tests).
+std::string ascii_stl(const slice::TriangleMesh& mesh);
 
 struct ToolRun {
   int exit_code = -1;

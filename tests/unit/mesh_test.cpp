@@ -66,21 +66,6 @@ std::string binary_stl(const slice::TriangleMesh& m) {
   return out;
 }
 
-std::string ascii_stl(const slice::TriangleMesh& m) {
-  std::ostringstream s;
-  s << "solid cube\n";
-  for (const auto& t : m.triangles) {
-    s << " facet normal 0 0 0\n  outer loop\n";
-    for (const auto k : t) {
-      const Vec3& x = m.vertices[std::size_t(k)];
-      s << "   vertex " << x.x() << ' ' << x.y() << ' ' << x.z() << "\n";
-    }
-    s << "  endloop\n endfacet\n";
-  }
-  s << "endsolid cube\n";
-  return s.str();
-}
-
 }  // namespace
 
 TEST_CASE("a cube reads from OBJ and both STL forms as the same solid", "[mesh]") {
@@ -89,7 +74,7 @@ TEST_CASE("a cube reads from OBJ and both STL forms as the same solid", "[mesh]"
   REQUIRE(m.triangles.size() == 12);
   CHECK_THAT(slice::check_solid_mesh(m, "cube.obj"), WithinRel(1.0, 1e-15));
   test::TempDir tmp;
-  test::write_text(tmp / "a.stl", ascii_stl(m));
+  test::write_text(tmp / "a.stl", test::ascii_stl(m));
   test::write_text(tmp / "b.STL", binary_stl(m));
   for (const char* name : {"a.stl", "b.STL"}) {
     CAPTURE(name);

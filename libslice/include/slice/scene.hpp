@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "slice/geometry.hpp"
+#include "slice/mesh.hpp"
 
 namespace slice {
 
@@ -183,9 +184,10 @@ struct Scene {
   std::vector<Joint> joints;  // [[joints]], in file order, then the construction joints of
                               // [[zones]] tunnels with cut = true (tunnel.hpp), zone by zone
   std::vector<JointSetSpec> sets;
-  std::vector<Region> zones;             // a [[zones]] tunnel may give several (tunnel_regions)
-  std::vector<EntryPlace> joint_places;  // one per joint: its [[joints]] entry or its zone
-  std::vector<EntryPlace> set_places;    // one per [[sets]] entry
+  std::vector<Region> zones;              // a [[zones]] tunnel may give several (tunnel_regions)
+  std::vector<TriangleMesh> zone_meshes;  // [[zones]] mesh: closed meshes (mesh.hpp)
+  std::vector<EntryPlace> joint_places;   // one per joint: its [[joints]] entry or its zone
+  std::vector<EntryPlace> set_places;     // one per [[sets]] entry
 };
 
 /// The joint system of a rock mass: everything in joints.h5.
@@ -198,6 +200,9 @@ struct JointSystem {
   std::vector<Joint> joints;  // in the order they will be introduced (options.order)
   std::vector<JointSetSpec> sets;
   std::vector<Region> zones;
+  /// Removal zones of any shape: closed triangle meshes (a block whose centre is inside one is
+  /// removed, as for `zones`). HDF5 /zones/mesh_*.
+  std::vector<TriangleMesh> zone_meshes;
 };
 
 /// The keys a scene file's tables accept, from the lists the parser checks them against (for

@@ -79,6 +79,15 @@ std::vector<Region> tunnel_fan(const Tunnel& t, double tol);
 /// and dip direction (orientation.hpp), counter-clockwise, about the face's vertex mean.
 std::vector<Joint> tunnel_joints(const Tunnel& t, std::span<const Plane> domain, double tol);
 
+/// A construction joint (limits = false) on the convex planar polygon `corners` (in order
+/// around it, either way), as [[joints]] gives polygons: in the plane frame of its dip and dip
+/// direction, counter-clockwise, about the corners' mean. For tunnels and [[zones]] meshes.
+Joint construction_face_joint(const std::vector<Vec3>& corners);
+/// True if every corner lies on or outside (within tol) one of `domain`'s planes: the face
+/// would cut nothing.
+bool face_misses_domain(const std::vector<Vec3>& corners, std::span<const Plane> domain,
+                        double tol);
+
 /// The area of a polygon (shoelace), positive when counter-clockwise.
 double signed_area(std::span<const Vec2> polygon);
 

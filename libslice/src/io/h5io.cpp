@@ -14,6 +14,7 @@
 
 #include "h5/h5.hpp"
 #include "slice/error.hpp"
+#include "slice/mesh.hpp"
 #include "slice/output.hpp"
 #include "slice/tolerance.hpp"
 
@@ -192,6 +193,22 @@ void check_joints(const Checker& c, const JointSystem& js) {
   for (const Region& z : js.zones) {
     check_planes(c, "/zones", z.planes, zone_row);
     zone_row += z.planes.size();
+  }
+  for (std::size_t k = 0; k < js.zone_meshes.size(); ++k) {
+    const TriangleMesh& m = js.zone_meshes[k];
+    const std::string which = "/zones mesh " + str(k);
+    for (const Vec3& x : m.vertices)
+      if (!x.allFinite()) c.fail(which + " has a vertex that is not finite");
+    for (const auto& t : m.triangles)
+      for (const std::int64_t v : t)
+        if (v < 0 || v >= std::int64_t(m.vertices.size()))
+          c.fail(which + " has a triangle corner " + str(v) + "; expected a vertex index below " +
+                 str(m.vertices.size()));
+    try {
+      check_solid_mesh(m, which);
+    } catch (const Error& e) {
+      c.fail(std::string("it does not bound a solid: ") + e.what());
+    }
   }
 
   if (static_cast<std::size_t>(js.options.order) >= kJointOrderNames.size())
@@ -476,6 +493,20 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
     const Group g = root.create_group("zones");
     g.write<std::int64_t>("offset", offset);
     write_planes(g, planes);
+    if (!js.zone_meshes.empty()) {  // only then: files without meshes stay as they were
+      std::vector<std::int64_t> vertex_offset{0}, triangle_offset{0}, triangles;
+      std::vector<double> vertices;
+      for (const TriangleMesh& m : js.zone_meshes) {
+        for (const Vec3& x : m.vertices) vertices.insert(vertices.end(), x.data(), x.data() + 3);
+        for (const auto& t : m.triangles) triangles.insert(triangles.end(), t.begin(), t.end());
+        vertex_offset.push_back(std::int64_t(vertices.size() / 3));
+        triangle_offset.push_back(std::int64_t(triangles.size() / 3));
+      }
+      g.write<std::int64_t>("mesh_vertex_offset", vertex_offset);
+      g.write<double>("mesh_vertices", vertices, 3);
+      g.write<std::int64_t>("mesh_triangle_offset", triangle_offset);
+      g.write<std::int64_t>("mesh_triangles", triangles, 3);
+    }
   }
   {
     const Group g = root.create_group("options");
@@ -740,6 +771,30 @@ void read_set_generation(const Group& sg, JointSetSpec& s) {
   s.achieved_p10 = sg.read_attribute<double>("achieved_p10");
 }
 
+// /zones/mesh_*: closed meshes, each with its own vertices (checked by check_joints).
+std::vector<TriangleMesh> read_zone_meshes(const Group& g) {
+  const auto vertex_offset = g.read<std::int64_t>("mesh_vertex_offset");
+  const auto vertices = g.read<double>("mesh_vertices", 3);
+  const auto triangle_offset = g.read<std::int64_t>("mesh_triangle_offset");
+  const auto triangles = g.read<std::int64_t>("mesh_triangles", 3);
+  if (vertex_offset.empty()) fail(g, "/zones/mesh_vertex_offset is empty; expected at least 0");
+  const std::size_t meshes = vertex_offset.size() - 1;
+  check_offsets(g, "mesh_vertex_offset", vertex_offset, meshes, "meshes", vertices.size() / 3,
+                "/zones/mesh_vertices");
+  check_offsets(g, "mesh_triangle_offset", triangle_offset, meshes, "meshes", triangles.size() / 3,
+                "/zones/mesh_triangles");
+  std::vector<TriangleMesh> out(meshes);
+  for (std::size_t k = 0; k < meshes; ++k) {
+    for (auto v = vertex_offset[k]; v < vertex_offset[k + 1]; ++v)
+      out[k].vertices.push_back(vec3(vertices, std::size_t(v)));
+    for (auto t = triangle_offset[k]; t < triangle_offset[k + 1]; ++t) {
+      const auto i = 3 * std::size_t(t);
+      out[k].triangles.push_back({triangles[i], triangles[i + 1], triangles[i + 2]});
+    }
+  }
+  return out;
+}
+
 JointSystem read_joint_groups(const Group& root) {
   JointSystem js;
   js.name = root.read_attribute<std::string>("name");
@@ -852,6 +907,7 @@ JointSystem read_joint_groups(const Group& root) {
     for (std::size_t z = 0; z + 1 < offset.size(); ++z)
       js.zones.push_back(
           {std::vector<Plane>(planes.begin() + offset[z], planes.begin() + offset[z + 1])});
+    if (g.exists("mesh_vertex_offset")) js.zone_meshes = read_zone_meshes(g);
   }
   {
     const Group g = root.open_group("options");

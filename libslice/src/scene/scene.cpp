@@ -98,8 +98,9 @@ constexpr std::array<std::string_view, 6> kTopTables = {"scene",  "domain", "opt
                                                         "joints", "sets",   "zones"};
 constexpr std::array<std::string_view, 4> kSceneKeys = {"name", "seed", "tolerance", "max_joints"};
 constexpr std::array<std::string_view, 2> kRegionKeys = {"box", "planes"};
-// A zone is a region or a tunnel; `cut` and `stage` apply to tunnels.
-constexpr std::array<std::string_view, 5> kZoneKeys = {"box", "planes", "tunnel", "cut", "stage"};
+// A zone is a region, a tunnel or a mesh; `cut` and `stage` apply to tunnels and meshes.
+constexpr std::array<std::string_view, 6> kZoneKeys = {"box",  "planes", "tunnel",
+                                                       "mesh", "cut",    "stage"};
 constexpr std::array<std::string_view, 6> kTunnelKeys = {"point",  "direction", "length",
                                                          "radius", "sides",     "outline"};
 // A tunnel's default number of sides: the 16-gon's area is 1.3 % above its inscribed circle's.
@@ -622,6 +623,7 @@ struct Context {
   double rel_tol = 1e-9;
   DomainBox box{};  // the domain as the joint generator sees it
   std::int64_t max_joints = kDefaultMaxJoints;
+  std::filesystem::path dir{};  // the scene file's directory: relative mesh paths start there
   double tol() const { return rel_tol * domain_info.length_scale; }
 };
 
@@ -1116,6 +1118,7 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
 // construction joints along its surface, all introduced at `place`.
 struct ZoneEntry {
   std::vector<Region> regions;
+  std::optional<TriangleMesh> mesh;
   std::vector<Joint> joints;
   EntryPlace place;
 };
@@ -1208,6 +1211,47 @@ bool meets_domain(const Context& cx, std::span<const Region> regions) {
   });
 }
 
+// A [[zones]] mesh: a closed triangle mesh from an OBJ or STL file (relative paths from the
+// scene's directory), checked; with `cut`, one construction joint per triangle in the domain.
+void read_mesh_zone(const Context& cx, const Tbl& t, const toml::node& node, bool cut,
+                    ZoneEntry& z) {
+  const Reader& r = cx.r;
+  const std::filesystem::path given = to_text(r, node, t.label("mesh"));
+  const std::filesystem::path file = given.is_absolute() ? given : cx.dir / given;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec))
+    r.fail(node, t.label("mesh") + " names " + file.string() + ", which is not a file",
+           "give the path of an OBJ or STL file, relative to the scene file's directory");
+  TriangleMesh mesh;
+  try {
+    mesh = read_mesh(file);
+    check_solid_mesh(mesh, file.string());
+  } catch (const Error& e) {
+    r.fail(node, t.label("mesh") + ": " + e.what(),
+           "give a closed triangle mesh, counter-clockwise seen from outside");
+  }
+  Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
+  for (const Vec3& x : mesh.vertices) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const Region box{{{Vec3::UnitX(), hi.x()},
+                    {-Vec3::UnitX(), -lo.x()},
+                    {Vec3::UnitY(), hi.y()},
+                    {-Vec3::UnitY(), -lo.y()},
+                    {Vec3::UnitZ(), hi.z()},
+                    {-Vec3::UnitZ(), -lo.z()}}};
+  if (!meets_domain(cx, std::span<const Region>(&box, 1)))
+    r.fail(node, t.ctx + "'s mesh has no volume inside the domain, so it would remove nothing",
+           "check the mesh's coordinates against the domain (same frame and unit)");
+  if (cut)
+    for (const auto& tri : mesh.triangles) {
+      const std::vector<Vec3> corners{mesh.vertices[std::size_t(tri[0])],
+                                      mesh.vertices[std::size_t(tri[1])],
+                                      mesh.vertices[std::size_t(tri[2])]};
+      if (!face_misses_domain(corners, cx.box.planes, cx.tol()))
+        z.joints.push_back(construction_face_joint(corners));
+    }
+  z.mesh = std::move(mesh);
+}
+
 // A [[zones]] entry: box, planes or tunnel. `default_stage` is the stage of a cut tunnel's
 // joints without `stage`; `entry` orders entries on one line (EntryPlace).
 ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
@@ -1217,36 +1261,47 @@ ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
   t.check_keys(kZoneKeys);
   ZoneEntry z;
   const toml::node* tunnel = t.find("tunnel");
+  const toml::node* mesh = t.find("mesh");
   const toml::node* stage = t.find("stage");
   std::string_view which;
   bool in_domain = false;
-  if (!tunnel) {
+  if (!tunnel && !mesh) {
     if (const toml::node* n =
             first_present(t, std::array<std::string_view, 2>{"cut", "stage"}, &which))
-      r.fail(*n, t.label(which) + " applies to tunnel zones only",
-             "remove " + quote_key(which) + ", or give the zone as tunnel = { ... }");
+      r.fail(*n, t.label(which) + " applies to tunnel and mesh zones only",
+             "remove " + quote_key(which) + ", or give the zone as tunnel = { ... } or mesh");
     if (!t.find("box") && !t.find("planes"))
-      r.fail(tt, t.ctx + " has none of 'box', 'planes' and 'tunnel'",
+      r.fail(tt, t.ctx + " has none of 'box', 'planes', 'tunnel' and 'mesh'",
              "add box = { min = [x, y, z], max = [x, y, z] }, planes = [ { normal = [nx, ny, "
-             "nz], d = d }, ... ] or tunnel = { point = [x, y, z], direction = [dx, dy, dz], "
-             "length = L, radius = R }");
+             "nz], d = d }, ... ], tunnel = { point = [x, y, z], direction = [dx, dy, dz], "
+             "length = L, radius = R } or mesh = \"cavern.obj\"");
     z.regions.push_back(region_of(t));
     in_domain = meets_domain(cx, z.regions);
   } else {
+    const std::string_view kind = tunnel ? "tunnel" : "mesh";
     if (const toml::node* n = first_present(t, kRegionKeys, &which))
-      r.fail(*n, t.ctx + " gives both 'tunnel' and " + quote_key(which), "keep one of them");
+      r.fail(*n, t.ctx + " gives both " + quote_key(kind) + " and " + quote_key(which),
+             "keep one of them");
+    if (tunnel && mesh)
+      r.fail(*mesh, t.ctx + " gives both 'tunnel' and 'mesh'", "keep one of them");
     bool cut = false;
     if (const toml::node* n = t.find("cut")) {
       const auto* b = n->as_boolean();
       if (!b)
         r.fail(*n, t.label("cut") + " must be true or false, not " + type_name(*n),
-               "write cut = true to cut the tunnel's surface into the rock before removal");
+               "write cut = true to cut the zone's surface into the rock before removal");
       cut = b->get();
     }
     if (stage && !cut)
       r.fail(*stage,
              t.label("stage") + " applies with cut = true: without it the zone adds no joints",
              "add cut = true, or remove 'stage'");
+    if (mesh) {
+      read_mesh_zone(cx, t, *mesh, cut, z);
+      z.place = read_place(r, tt, t.ctx, entry);
+      if (!stage) z.place.stage = default_stage;
+      return z;
+    }
     const Tunnel tun = read_tunnel(cx, t, *tunnel);
     z.regions = tunnel_regions(tun, cx.tol());
     if (cut) z.joints = tunnel_joints(tun, cx.box.planes, cx.tol());
@@ -1448,6 +1503,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
   scene.domain = read_region(dtbl);
   Context cx{r, analyse_region(scene.domain.planes, scene.options.tolerance),
              scene.options.tolerance};
+  cx.dir = name.parent_path();
   {
     const toml::node& at = dt->get("planes") ? *dt->get("planes") : *dt;
     if (cx.domain_info.status == RegionStatus::unbounded)
@@ -1498,6 +1554,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
     ZoneEntry z = read_zone(cx, *zones[i], i, last_stage + 1,
                             static_cast<std::int64_t>(joints.size() + sets.size() + i));
     std::move(z.regions.begin(), z.regions.end(), std::back_inserter(scene.zones));
+    if (z.mesh) scene.zone_meshes.push_back(std::move(*z.mesh));
     for (Joint& j : z.joints) {
       scene.joints.push_back(std::move(j));
       scene.joint_places.push_back(z.place);
@@ -1527,6 +1584,7 @@ JointSystem generate_joints(const Scene& scene) {
   js.options = scene.options;
   js.sets = scene.sets;
   js.zones = scene.zones;
+  js.zone_meshes = scene.zone_meshes;
   const std::string where = scene.source.string();
   const RegionAnalysis dom = analyse_region(scene.domain.planes, scene.options.tolerance);
   if (dom.status != RegionStatus::ok)

@@ -30,8 +30,10 @@ std::pair<Plane, Plane> end_caps(const TunnelFrame& f, const Tunnel& t) {
   return {{-f.d, -f.d.dot(t.point)}, {f.d, f.d.dot(t.point) + t.length}};
 }
 
+}  // namespace
+
 // A construction joint on the convex planar polygon `corners` (in order around it, either way).
-Joint face_joint(const std::vector<Vec3>& corners) {
+Joint construction_face_joint(const std::vector<Vec3>& corners) {
   Vec3 newell = Vec3::Zero(), mean = Vec3::Zero();
   for (std::size_t i = 0; i < corners.size(); ++i) {
     const Vec3& a = corners[i];
@@ -55,14 +57,13 @@ Joint face_joint(const std::vector<Vec3>& corners) {
 }
 
 // True if every corner lies on or outside one plane of the domain: the face cuts nothing.
-bool misses(const std::vector<Vec3>& corners, std::span<const Plane> domain, double tol) {
+bool face_misses_domain(const std::vector<Vec3>& corners, std::span<const Plane> domain,
+                        double tol) {
   return std::any_of(domain.begin(), domain.end(), [&](const Plane& p) {
     return std::all_of(corners.begin(), corners.end(),
                        [&](const Vec3& x) { return p.distance(x) >= -tol; });
   });
 }
-
-}  // namespace
 
 TunnelFrame tunnel_frame(const Vec3& direction) {
   TunnelFrame f;
@@ -198,7 +199,7 @@ std::vector<Joint> tunnel_joints(const Tunnel& t, std::span<const Plane> domain,
   const auto at = [&](const Vec2& uv, double s) { return f.to_global(t.point, uv, s); };
   std::vector<Joint> out;
   const auto add = [&](const std::vector<Vec3>& corners) {
-    if (!misses(corners, domain, tol)) out.push_back(face_joint(corners));
+    if (!face_misses_domain(corners, domain, tol)) out.push_back(construction_face_joint(corners));
   };
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 &a = p[i], &b = p[(i + 1) % n];

@@ -29,6 +29,7 @@
 #include "slice/decide.hpp"
 #include "slice/error.hpp"
 #include "slice/estimate.hpp"
+#include "slice/mesh.hpp"
 #include "slice/polytope.hpp"
 #include "sphere_grid.hpp"
 
@@ -754,12 +755,16 @@ class Cutter {
                       });
     lps.combine_each([&](const LpCounts& c) { add(stats_.lps, c); });
     // Removal zones: blocks whose centre is inside are removed (kept in the file, flagged).
+    std::vector<MeshInside> meshes;
+    for (const TriangleMesh& m : js_.zone_meshes) meshes.emplace_back(m);
     for (Block& b : blocks_) {
       for (const Region& z : js_.zones) {
         const bool inside = std::all_of(z.planes.begin(), z.planes.end(),
                                         [&](const Plane& p) { return p.distance(b.origin) < 0; });
         if (inside) b.flags |= kRemoved;
       }
+      for (const MeshInside& inside : meshes)
+        if (!(b.flags & kRemoved) && inside(b.origin)) b.flags |= kRemoved;
       stats_.boundary += (b.flags & kBoundary) ? 1 : 0;
       stats_.removed += (b.flags & kRemoved) ? 1 : 0;
     }
