@@ -60,6 +60,7 @@ ordered_json describe_joints(const slice::JointSystem& js) {
                  {"by_kind", by_kind},
                  {"by_set", sets}};
   j["zones"] = js.zones.size();
+  j["zone_meshes"] = js.zone_meshes.size();  // [[zones]] mesh excavations
   return j;
 }
 

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "slice/h5io.hpp"
@@ -78,6 +79,9 @@ Result run(const test::TempDir& tmp, const std::string& zone) {
   const auto r = run_tool("slice-joints", {(tmp / "s.toml").string(), "-o", j});
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
+  const auto info = run_tool("slice-info", {j, "--json"});
+  REQUIRE(info.exit_code == 0);
+  CHECK(nlohmann::json::parse(info.out)["zone_meshes"] == 1);
   REQUIRE(run_tool("slice-cut", {j, "-o", b, "--prune"}).exit_code == 0);
   REQUIRE(run_tool("slice-vertices", {b, "-o", g}).exit_code == 0);
   const auto bs = slice::read_blocks(g);
