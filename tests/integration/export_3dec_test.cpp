@@ -117,9 +117,11 @@ TEST_CASE("the 3DEC grid parses back: blocks, faces, volumes and contacts match 
     for (const long f : faces) CHECK(seen_faces.insert(f).second);  // faces are not shared
     std::vector<Vec3> normals;
     const double v = volume(g, faces, &normals);
-    CHECK(std::abs(v - geo.volume[b]) <= 1e-9 * geo.volume[b]);
-    for (std::size_t f = 0; f < faces.size(); ++f)  // outward, the face's own normal
-      CHECK(normals[f].dot(blk.faces[f].normal) > 1 - 1e-9);
+    // Clockwise seen from outside: the divergence theorem gives minus the volume, and the
+    // right-hand normals point in.
+    CHECK(std::abs(-v - geo.volume[b]) <= 1e-9 * geo.volume[b]);
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      CHECK(normals[f].dot(blk.faces[f].normal) < -1 + 1e-9);
   }
   CHECK(seen_faces.size() == g.faces.size());
 

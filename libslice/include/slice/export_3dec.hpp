@@ -9,9 +9,11 @@
 //     (3DEC IDs are positive), so gaps mark the removed blocks; zone-id 1;
 //   - every block has its own gridpoints and faces (3DEC creates a vertex for every point);
 //     IDs count up from 1 in block order;
-//   - a face's gridpoints go counter-clockwise seen from outside the block, so the right-hand
-//     rule gives its outward normal (the order of /geometry/face_vertices, of VTK and of STL;
-//     3DEC's own grids were not available to check against);
+//   - a face's gridpoints go clockwise seen from outside the block (the right-hand rule gives
+//     the inward normal): UDEC takes a block's corners clockwise, and the one public 3DEC
+//     exporter at hand (BlockResearchGroup/compas_3dec's example geometry.dat) lists 3DEC
+//     polyhedron faces so. /geometry's loops go the other way and are written backwards. No
+//     3DEC was at hand to confirm it;
 //   - JS lines: two kept blocks with faces on the same rock or boundary joint, facing each other
 //     and overlapping with positive area, are a contact of that joint's set: JS id = set + 1,
 //     and (number of sets + 1) for the scene's single [[joints]]; construction joints and domain

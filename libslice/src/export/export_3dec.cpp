@@ -190,7 +190,7 @@ void write_grid(TextOut& out, const BlockSystem& bs, ThreeDecStats& st,
   std::string& s = out.buf();
   s += "* rockslice " + std::string(version()) + ": 3DEC grid of scene " + bs.joints.name +
        ", rigid blocks (block import filename \"...\")\n";
-  s += "* Block IDs are rows of blocks.h5 + 1; faces go counter-clockwise seen from outside.\n";
+  s += "* Block IDs are rows of blocks.h5 + 1; faces go clockwise seen from outside.\n";
   s += "* GRIDPOINTS\n";
   std::size_t gp = 0;
   for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
@@ -213,9 +213,14 @@ void write_grid(TextOut& out, const BlockSystem& bs, ThreeDecStats& st,
       continue;
     }
     for (std::size_t f = 0; f < nf; ++f, ++row) {
+      // /geometry's loops go counter-clockwise seen from outside: written backwards, from the
+      // same first point.
+      const auto lo = g.face_vertex_offset[row], hi = g.face_vertex_offset[row + 1];
       s += "F " + std::to_string(++face);
-      for (auto v = g.face_vertex_offset[row]; v < g.face_vertex_offset[row + 1]; ++v)
+      for (auto k = lo; k < hi; ++k) {
+        const auto v = k == lo ? lo : hi - (k - lo);
         s += ' ' + std::to_string(gp + 1 + std::size_t(g.face_vertices[std::size_t(v)]));
+      }
       s += '\n';
     }
     gp += std::size_t(g.vertex_offset[b + 1] - g.vertex_offset[b]);
