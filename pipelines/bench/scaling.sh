@@ -28,13 +28,7 @@ for s in "${spacings[@]}"; do
     [ "$index" = yes ] || flag=(--no-index)
     /usr/bin/time -f "%M" -o "$work/rss" "$bin/slice-cut" -q "$work/joints.h5" -o "$work/blocks.h5" \
       --prune --threads 1 --stats "$work/stats.json" "${flag[@]}"
-    /usr/bin/python3 - "$work/stats.json" "$work/rss" "$index" "$s" >>"$csv" <<'PY'
-import json, sys
-s = json.load(open(sys.argv[1]))
-rss_mb = int(open(sys.argv[2]).read().split()[-1]) / 1024
-print(f"{sys.argv[3]},{sys.argv[4]},{s['blocks']},{s['joints']},{s['seconds_cut'] + s['seconds_finish']:.4f},"
-      f"{s['seconds_prune']:.4f},{s['lps_solved']},{s['pairs_skipped']},{rss_mb:.1f}")
-PY
+    /usr/bin/python3 "$root/pipelines/bench/scaling_row.py" "$work/stats.json" "$work/rss" "$index" "$s" >>"$csv"
     tail -n 1 "$csv"
   done
 done

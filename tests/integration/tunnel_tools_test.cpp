@@ -65,16 +65,6 @@ std::string scene(const Section& s, bool cut) {
   return t;
 }
 
-// Point in polygon by the crossing number.
-bool in_polygon(const std::vector<Vec2>& p, const Vec2& x) {
-  bool in = false;
-  for (std::size_t i = 0, j = p.size() - 1; i < p.size(); j = i++)
-    if ((p[i].y() > x.y()) != (p[j].y() > x.y()) &&
-        x.x() < (p[j].x() - p[i].x()) * (x.y() - p[i].y()) / (p[j].y() - p[i].y()) + p[i].x())
-      in = !in;
-  return in;
-}
-
 // Whether x is inside the tunnel's prism by more than `margin`, tested directly in the section
 // frame (the polygon shrunk by sampling: x and the four points `margin` away in the section).
 bool deep_inside(const std::vector<Vec2>& outline, const Vec3& x, double margin) {
@@ -85,7 +75,7 @@ bool deep_inside(const std::vector<Vec2>& outline, const Vec3& x, double margin)
   if (!(s > margin && s < kLength - margin)) return false;
   for (const Vec2& step :
        {Vec2(0, 0), Vec2(margin, 0), Vec2(-margin, 0), Vec2(0, margin), Vec2(0, -margin)})
-    if (!in_polygon(outline, uv + step)) return false;
+    if (!test::in_polygon(outline, uv + step)) return false;
   return true;
 }
 

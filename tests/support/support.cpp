@@ -12,6 +12,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "slice/error.hpp"
+
 namespace test {
 
 TempDir::TempDir() {
@@ -103,6 +105,24 @@ std::string ascii_stl(const slice::TriangleMesh& mesh) {
   }
   s << "endsolid mesh\n";
   return s.str();
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const slice::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool in_polygon(const std::vector<slice::Vec2>& p, const slice::Vec2& x) {
+  bool in = false;
+  for (std::size_t i = 0, j = p.size() - 1; i < p.size(); j = i++)
+    if ((p[i].y() > x.y()) != (p[j].y() > x.y()) &&
+        x.x() < (p[j].x() - p[i].x()) * (x.y() - p[i].y()) / (p[j].y() - p[i].y()) + p[i].x())
+      in = !in;
+  return in;
 }
 
 }  // namespace test

@@ -1,6 +1,7 @@
 #pragma once
 // Test helpers shared by every test folder.
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,12 @@ std::string read_bytes(const fs::path& file);
 
 /// An ASCII STL file of the mesh's triangles (for the mesh tests).
 std::string ascii_stl(const slice::TriangleMesh& mesh);
+
+/// The message of the slice::Error that `f` throws ("" if it throws none).
+std::string error_of(const std::function<void()>& f);
+
+/// Point in polygon by the crossing number (the polygon in either orientation).
+bool in_polygon(const std::vector<slice::Vec2>& polygon, const slice::Vec2& x);
 
 struct ToolRun {
   int exit_code = -1;

@@ -148,16 +148,6 @@ slice::Provenance sample_provenance() {
           std::string(64, 'a')};
 }
 
-// The message of the slice::Error that `f` throws ("" if it throws none).
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const slice::Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 }  // namespace
 
 TEST_CASE("to_string(FileKind) spells the schema's kinds", "[h5io]") {
@@ -239,20 +229,22 @@ TEST_CASE("a failed write leaves the old file untouched and no .partial", "[h5io
 
   SECTION("refused before writing: a NaN normal") {
     js.joints[1].plane.normal.x() = kNaN;
-    const std::string msg = error_of([&] { slice::write_joints(out, js, sample_provenance()); });
+    const std::string msg =
+        test::error_of([&] { slice::write_joints(out, js, sample_provenance()); });
     CHECK_THAT(msg, Contains("joints.h5: /joints/normal row 1 is (nan, 0, 0.8)") &&
                         Contains("nothing was written"));
   }
   SECTION("failed while writing: a string HDF5 cannot hold") {
     auto prov = sample_provenance();
     prov.command_line = std::string("a\0b", 3);
-    const std::string msg = error_of([&] { slice::write_joints(out, js, prov); });
+    const std::string msg = test::error_of([&] { slice::write_joints(out, js, prov); });
     CHECK_THAT(msg, Contains("joints.h5: root attribute command_line contains a NUL"));
   }
   SECTION("the output is a directory: refused before writing") {
     const fs::path d = dir / "taken.h5";
     fs::create_directory(d);
-    const std::string msg = error_of([&] { slice::write_joints(d, js, sample_provenance()); });
+    const std::string msg =
+        test::error_of([&] { slice::write_joints(d, js, sample_provenance()); });
     CHECK_THAT(msg, Contains("taken.h5: is a directory"));
     CHECK(fs::is_directory(d));
     CHECK_FALSE(fs::exists(dir / "taken.h5.partial"));
@@ -260,7 +252,7 @@ TEST_CASE("a failed write leaves the old file untouched and no .partial", "[h5io
   SECTION("a missing directory") {
     const fs::path missing = dir / "no-such-dir" / "joints.h5";
     const std::string msg =
-        error_of([&] { slice::write_joints(missing, js, sample_provenance()); });
+        test::error_of([&] { slice::write_joints(missing, js, sample_provenance()); });
     CHECK_THAT(msg, Contains("no-such-dir") && Contains("does not exist"));
     CHECK_FALSE(fs::exists(missing.parent_path()));
   }
@@ -355,11 +347,11 @@ TEST_CASE("writers refuse invalid content", "[h5io]") {
     expect = "/blocks/bsphere row 0 is (0.1, 0.2, 0.3, inf)";
   }
   CAPTURE(expect);
-  const std::string msg = error_of([&] { slice::write_blocks(dir / "b.h5", bs, {}); });
+  const std::string msg = test::error_of([&] { slice::write_blocks(dir / "b.h5", bs, {}); });
   CHECK_THAT(msg, Contains("b.h5: " + expect) && Contains("nothing was written"));
   CHECK(fs::is_empty(dir.path()));
   if (expect.rfind("/blocks", 0) != 0) {  // the joint part: write_joints refuses it too
-    const std::string msg2 = error_of([&] { slice::write_joints(dir / "j.h5", js, {}); });
+    const std::string msg2 = test::error_of([&] { slice::write_joints(dir / "j.h5", js, {}); });
     CHECK_THAT(msg2, Contains("j.h5: " + expect));
     CHECK(fs::is_empty(dir.path()));
   }
@@ -616,7 +608,7 @@ TEST_CASE("readers refuse bad files and name the file and dataset", "[h5io]") {
     DYNAMIC_SECTION(bad.what) {
       test::TempDir dir;
       const fs::path p = spoiled(dir, bad.kind, bad.edit);
-      const std::string msg = error_of([&] {
+      const std::string msg = test::error_of([&] {
         if (bad.kind == FileKind::joints)
           slice::read_joints(p);
         else
@@ -634,13 +626,13 @@ TEST_CASE("readers refuse files that are not joints or blocks files", "[h5io]") 
   slice::write_blocks(dir / "blocks.h5", sample_blocks(), sample_provenance());
   test::write_text(dir / "text.h5", "schema = \"rockslice\"\n");
 
-  CHECK_THAT(error_of([&] { slice::read_joints(dir / "blocks.h5"); }),
+  CHECK_THAT(test::error_of([&] { slice::read_joints(dir / "blocks.h5"); }),
              Contains("blocks.h5: root attribute kind is \"blocks\"; expected \"joints\""));
-  CHECK_THAT(error_of([&] { slice::read_blocks(dir / "joints.h5"); }),
+  CHECK_THAT(test::error_of([&] { slice::read_blocks(dir / "joints.h5"); }),
              Contains("joints.h5: root attribute kind is \"joints\"; expected \"blocks\""));
-  CHECK_THAT(error_of([&] { slice::read_joints(dir / "text.h5"); }),
+  CHECK_THAT(test::error_of([&] { slice::read_joints(dir / "text.h5"); }),
              Contains("text.h5: not an HDF5 file"));
-  CHECK_THAT(error_of([&] { slice::read_header(dir / "missing.h5"); }),
+  CHECK_THAT(test::error_of([&] { slice::read_header(dir / "missing.h5"); }),
              Contains("missing.h5: no such file"));
-  CHECK_THAT(error_of([&] { slice::read_blocks(dir.path()); }), Contains("is a directory"));
+  CHECK_THAT(test::error_of([&] { slice::read_blocks(dir.path()); }), Contains("is a directory"));
 }

@@ -41,15 +41,6 @@ slice::TriangleMesh cube() {
   return slice::read_mesh(tmp / "cube.obj");
 }
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const slice::Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 /// A binary STL of the mesh's triangles.
 std::string binary_stl(const slice::TriangleMesh& m) {
   std::string out(80, ' ');
@@ -106,16 +97,17 @@ TEST_CASE("meshes that bound no solid are refused with the reason", "[mesh]") {
   auto m = cube();
   SECTION("open") {
     m.triangles.pop_back();
-    CHECK_THAT(error_of([&] { slice::check_solid_mesh(m, "x.obj"); }),
+    CHECK_THAT(test::error_of([&] { slice::check_solid_mesh(m, "x.obj"); }),
                Contains("x.obj") && Contains("open"));
   }
   SECTION("inside out") {
     for (auto& t : m.triangles) std::swap(t[1], t[2]);
-    CHECK_THAT(error_of([&] { slice::check_solid_mesh(m, "x.obj"); }), Contains("inside out"));
+    CHECK_THAT(test::error_of([&] { slice::check_solid_mesh(m, "x.obj"); }),
+               Contains("inside out"));
   }
   SECTION("one triangle turned the wrong way") {
     std::swap(m.triangles[3][1], m.triangles[3][2]);
-    CHECK_THAT(error_of([&] { slice::check_solid_mesh(m, "x.obj"); }),
+    CHECK_THAT(test::error_of([&] { slice::check_solid_mesh(m, "x.obj"); }),
                Contains("consistently oriented"));
   }
   SECTION("self-intersecting: two overlapping cubes in one mesh") {
@@ -123,25 +115,28 @@ TEST_CASE("meshes that bound no solid are refused with the reason", "[mesh]") {
     const auto first = m;
     for (const Vec3& x : first.vertices) m.vertices.push_back(x + Vec3(0.5, 0.5, 0.5));
     for (auto t : first.triangles) m.triangles.push_back({t[0] + n, t[1] + n, t[2] + n});
-    CHECK_THAT(error_of([&] { slice::check_solid_mesh(m, "x.obj"); }),
+    CHECK_THAT(test::error_of([&] { slice::check_solid_mesh(m, "x.obj"); }),
                Contains("intersects itself"));
   }
   SECTION("a triangle without area") {
     m.vertices[6] = m.vertices[2];  // (1,1,1) onto (1,1,0): faces collapse
-    CHECK_FALSE(error_of([&] { slice::check_solid_mesh(m, "x.obj"); }).empty());
+    CHECK_FALSE(test::error_of([&] { slice::check_solid_mesh(m, "x.obj"); }).empty());
   }
 }
 
 TEST_CASE("bad mesh files are refused with the file and line", "[mesh]") {
   test::TempDir tmp;
   test::write_text(tmp / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
-  CHECK_THAT(error_of([&] { slice::read_mesh(tmp / "bad.obj"); }),
+  CHECK_THAT(test::error_of([&] { slice::read_mesh(tmp / "bad.obj"); }),
              Contains("bad.obj:4") && Contains("vertex 9"));
   test::write_text(tmp / "nan.obj", "v 0 nan 0\n");
-  CHECK_THAT(error_of([&] { slice::read_mesh(tmp / "nan.obj"); }), Contains("nan.obj:1"));
+  CHECK_THAT(test::error_of([&] { slice::read_mesh(tmp / "nan.obj"); }), Contains("nan.obj:1"));
   test::write_text(tmp / "empty.stl", "solid x\nendsolid x\n");
-  CHECK_THAT(error_of([&] { slice::read_mesh(tmp / "empty.stl"); }), Contains("no triangles"));
+  CHECK_THAT(test::error_of([&] { slice::read_mesh(tmp / "empty.stl"); }),
+             Contains("no triangles"));
   test::write_text(tmp / "cave.ply", "ply\n");
-  CHECK_THAT(error_of([&] { slice::read_mesh(tmp / "cave.ply"); }), Contains(".obj nor .stl"));
-  CHECK_THAT(error_of([&] { slice::read_mesh(tmp / "missing.obj"); }), Contains("cannot be read"));
+  CHECK_THAT(test::error_of([&] { slice::read_mesh(tmp / "cave.ply"); }),
+             Contains(".obj nor .stl"));
+  CHECK_THAT(test::error_of([&] { slice::read_mesh(tmp / "missing.obj"); }),
+             Contains("cannot be read"));
 }

@@ -13,6 +13,7 @@
 
 #include "slice/error.hpp"
 #include "slice/scene.hpp"
+#include "support/support.hpp"
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::WithinAbs;
@@ -43,16 +44,6 @@ bool in_regions(const std::vector<slice::Region>& zones, const Vec3& x) {
     if (inside) return true;
   }
   return false;
-}
-
-// Point in polygon by the crossing number (the polygon in any orientation).
-bool in_polygon(const std::vector<Vec2>& p, const Vec2& x) {
-  bool in = false;
-  for (std::size_t i = 0, j = p.size() - 1; i < p.size(); j = i++)
-    if ((p[i].y() > x.y()) != (p[j].y() > x.y()) &&
-        x.x() < (p[j].x() - p[i].x()) * (x.y() - p[i].y()) / (p[j].y() - p[i].y()) + p[i].x())
-      in = !in;
-  return in;
 }
 
 // Distance from x to the polygon's boundary.
@@ -175,7 +166,7 @@ TEST_CASE("a horseshoe's fan of prisms covers exactly its outline", "[unit][tunn
     if (to_boundary(kHorseshoeCw, uv) < 1e-6 || std::abs(along) < 1e-6 ||
         std::abs(along - 20) < 1e-6)
       continue;
-    const bool expect = in_polygon(kHorseshoeCw, uv) && along > 0 && along < 20;
+    const bool expect = test::in_polygon(kHorseshoeCw, uv) && along > 0 && along < 20;
     CAPTURE(uv.transpose(), along);
     CHECK(in_regions(s.zones, f.to_global({0, -10, 0}, uv, along)) == expect);
     inside += expect ? 1 : 0;
