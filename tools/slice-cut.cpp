@@ -62,6 +62,7 @@ int main(int argc, char** argv) {
                                         {"lps_cut_test", s.lps.cut_test},
                                         {"lps_extents", s.lps.extents},
                                         {"lps_chebyshev", s.lps.chebyshev},
+                                        {"extremes_at_vertices", s.lps.vertex_extremes},
                                         {"lps_contact", s.lps.contact},
                                         {"lps_redundancy", ps.lps},
                                         {"faces_kept_without_lp", ps.certified},
@@ -87,8 +88,9 @@ int main(int argc, char** argv) {
           std::to_string(s.pairs_skipped));
     t.say("LPs (" + slice::to_string(opt.backend) + "): cut tests " +
           std::to_string(s.lps.cut_test) + ", extents " + std::to_string(s.lps.extents) +
-          ", Chebyshev " + std::to_string(s.lps.chebyshev) + ", contacts " +
-          std::to_string(s.lps.contact) +
+          ", Chebyshev " + std::to_string(s.lps.chebyshev) + " (" +
+          std::to_string(s.lps.vertex_extremes) + " extremes found at vertices without one)" +
+          ", contacts " + std::to_string(s.lps.contact) +
           (prune ? ", redundancy " + std::to_string(ps.lps) + " (" + std::to_string(ps.certified) +
                        " faces kept without one)"
                  : "") +
@@ -103,5 +105,6 @@ int main(int argc, char** argv) {
           (prune ? "; faces " + std::to_string(ps.faces_before) + " -> " +
                        std::to_string(ps.faces_after)
                  : ""));
+    t.exit_now();
   });
 }

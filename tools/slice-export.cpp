@@ -82,6 +82,7 @@ int main(int argc, char** argv) {
         t.say(std::to_string(js.cells) + " joints (" + std::to_string(js.skipped) +
               " outside the domain left out) -> " + joints);
       }
+      t.exit_now();
       return;
     }
     if (format == "3dec") {
@@ -91,6 +92,7 @@ int main(int argc, char** argv) {
             std::to_string(st.contacts) + " joint contacts -> " + out);
       t.say(std::to_string(st.fixed) + " blocks in group boundary (fixed), " +
             std::to_string(st.clusters) + " cluster groups -> " + commands);
+      t.exit_now();
       return;
     }
     yade.shape =
@@ -100,5 +102,6 @@ int main(int argc, char** argv) {
     t.say(std::to_string(st.bodies) + " bodies (" + std::to_string(st.fixed) + " fixed, " +
           std::to_string(st.clumps) + " clumps; " + std::to_string(st.removed) +
           " removed blocks left out) -> " + out);
+    t.exit_now();
   });
 }

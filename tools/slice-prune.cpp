@@ -36,5 +36,6 @@ int main(int argc, char** argv) {
           std::to_string(s.decisions.checked) + " decisions within " +
           (certify ? "the tolerance" : "rounding") + " of their threshold decided again exactly, " +
           std::to_string(s.decisions.changed) + " changed");
+    t.exit_now();
   });
 }

@@ -46,5 +46,6 @@ int main(int argc, char** argv) {
           std::to_string(s.faces) + " faces -> " + out);
     t.say("time: vertices " + tool::fixed(s.seconds, 3) + " s (" + tool::fixed(us, 1) +
           " us per block)");
+    t.exit_now();
   });
 }

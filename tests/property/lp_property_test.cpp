@@ -346,3 +346,64 @@ TEST_CASE("ipopt agrees with exact outside a wider band", "[property][lp][ipopt]
                  "ipopt Chebyshev balls");
   }
 }
+
+// vertex_extremes answers a direction only with a vertex proven optimal: every answer must be
+// the exact LP's extreme, on bounded blocks (5-10 faces, some degenerate: duplicate, nearly
+// parallel faces), on tiny ones (the "core" slice-cut's unique centre measures: a block shrunk
+// to 1e-6 of its inradius, where four or more faces nearly meet), and on unbounded sets, where
+// a direction with no extreme must stay unanswered. It must also answer most directions, or it
+// saves nothing.
+TEST_CASE("vertex extremes are the exact extents wherever they answer", "[property][lp][extents]") {
+  const long n = test::scaled_cases(20'000, 1);
+  const auto exact = slice::make_solver(LpBackend::exact);
+  long directions = 0, answered = 0, wrong = 0, claimed_unbounded = 0;
+  std::string first_wrong;
+  double worst = 0;
+  for (long i = 0; i < n; ++i) {
+    Rng rng(mix(kSeed + 7, static_cast<std::uint64_t>(i)));
+    const int kind = static_cast<int>(i % 4);  // 0 plain, 1 degenerate, 2 core, 3 unbounded
+    RandomBlock block = random_block(rng, 5 + rng.index(6), 1.0, kind == 1);
+    std::vector<Face> faces = block.faces;
+    if (faces.size() > slice::kVertexFaces) faces.resize(slice::kVertexFaces);
+    if (kind == 2) {
+      const auto ball = slice::chebyshev_ball(*exact, faces, slice::Tolerances::from_scale(1, 0));
+      REQUIRE(ball.status == LpStatus::optimal);
+      for (Face& f : faces) f.d -= (1 - 1e-6) * ball.radius;
+    }
+    if (kind == 3) faces.erase(faces.begin());  // one of the tetrahedron's faces: unbounded
+    const double L = 1;
+    const auto tol = slice::Tolerances::from_scale(L, kRelTol);
+    const slice::VertexExtremes v = slice::vertex_extremes(faces, 0x3f);
+    slice::DenseLp& lp = slice::extents_lp(*exact, faces, tol);
+    for (int dir = 0; dir < 6; ++dir) {
+      const int axis = dir / 2;
+      const double sign = dir % 2 == 0 ? 1.0 : -1.0;
+      lp.c.setZero();
+      lp.c[axis] = sign;
+      const slice::LpResult r = exact->solve(lp);
+      ++directions;
+      if (!(v.found & (1u << dir))) continue;
+      ++answered;
+      if (r.status != LpStatus::optimal) {
+        ++claimed_unbounded;
+        continue;
+      }
+      // As kNativeRelErr: relative to max(L, |extreme|) (a block missing a face can reach far).
+      const double err = std::abs(sign * v.x[std::size_t(dir)][axis] - r.objective) /
+                         std::max(L, std::abs(r.objective));
+      worst = std::max(worst, err);
+      if (!(err <= kNativeRelErr)) {
+        ++wrong;
+        if (wrong <= 10)
+          first_wrong += "case " + std::to_string(i) + " kind " + std::to_string(kind) +
+                         " direction " + std::to_string(dir) + " error " + fmt(err) + "; ";
+      }
+    }
+  }
+  INFO(answered << " of " << directions << " directions answered, worst relative error " << worst);
+  INFO(first_wrong);
+  CHECK(claimed_unbounded == 0);
+  CHECK(wrong == 0);
+  // Unbounded sets answer at most their bounded directions; the others nearly all.
+  CHECK(answered >= directions / 2);
+}

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <new>
@@ -150,6 +151,16 @@ slice::Progress Tool::progress() {
 
 slice::Provenance Tool::provenance(const std::string& input) const {
   return {name_, slice::version(), command_line_, input, slice::sha256_file(input)};
+}
+
+void Tool::exit_now() {
+#ifndef __SANITIZE_ADDRESS__
+  bar_->finish();
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);
+  std::_Exit(0);
+#endif
 }
 
 void Tool::say(const std::string& line) const {

@@ -45,6 +45,11 @@ class Tool {
   /// A line for people on stderr (suppressed by -q); control characters escaped.
   void say(const std::string& line) const;
   const std::string& name() const { return name_; }
+  /// Ends a run that succeeded at once, exit code 0: call it last in the body, once every output
+  /// is written. Freeing a million blocks one allocation at a time took 0.2-0.3 s per tool;
+  /// the system takes the memory back whole. Sanitizer builds return instead, so that
+  /// LeakSanitizer still checks the tools.
+  void exit_now();
 
  private:
   std::string name_;

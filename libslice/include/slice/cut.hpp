@@ -40,6 +40,9 @@ struct LpCounts {
   std::size_t redundancy = 0;  // eq. 8
   std::size_t contact = 0;     // construction-face contacts (a cut-test LP on the shared plane)
   std::size_t failed = 0;      // LPs neither the backend nor the exact one solved (expected: 0)
+  // Extremes (eq. 17) found at a vertex proven optimal, without an LP (vertex_extremes); not
+  // in total().
+  std::size_t vertex_extremes = 0;
   std::size_t total() const { return cut_test + extents + chebyshev + redundancy + contact; }
 };
 

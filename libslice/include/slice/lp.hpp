@@ -6,6 +6,7 @@
 //   exact   CGAL's LP solver over CGAL::Gmpzf, exact on the given doubles (lp_exact.cpp)
 // Every LP runs in the block's frame: faces are normal . x <= d relative to Block::origin.
 #include <Eigen/Core>
+#include <array>
 #include <limits>
 #include <memory>
 #include <span>
@@ -157,11 +158,26 @@ struct Extents {
   Vec3 min = Vec3::Zero(), max = Vec3::Zero();  // block frame
   Vec3 centre = Vec3::Zero();                   // block frame
   double radius = 0;
+  int lps = 0;  // LPs solved: the others were found at vertices (vertex_extremes)
 };
 Extents extents(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol);
 /// The extents LPs' rows in the solver's scratch LP, maximising, objective unset: set c to
 /// +-e_k and solve, as extents() does (for a caller that solves only some of the six).
 DenseLp& extents_lp(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol);
+
+/// Extremes of a block found where three of its faces meet: x[2k] maximises coordinate k,
+/// x[2k + 1] minimises it, for the directions `wanted` (bit 2k: +e_k, bit 2k + 1: -e_k). A
+/// vertex counts only if it lies inside every face and the signs of its three multipliers
+/// prove it optimal (the extents LP's dual), so a direction it answers is the LP's answer up
+/// to rounding; directions no such vertex answers are left out of `found`, for the LPs.
+/// Blocks of more than kVertexFaces faces, or with faces at grazing angles, are left whole.
+/// extents() uses it for the native backend (it is how the LP would end, without the pivots).
+struct VertexExtremes {
+  std::array<Vec3, 6> x{};
+  unsigned found = 0;  // bit per direction, as `wanted`
+};
+inline constexpr std::size_t kVertexFaces = 10;
+VertexExtremes vertex_extremes(std::span<const Face> faces, unsigned wanted);
 
 /// Chebyshev centre and inscribed radius (eq. 18): minimise t s.t. a_i . x - d_i <= t,
 /// radius = -t*. A radius <= tol.geometry means the block has no interior.

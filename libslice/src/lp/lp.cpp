@@ -281,15 +281,79 @@ DenseLp& extents_lp(LpSolver& solver, std::span<const Face> faces, const Toleran
   return lp;
 }
 
+VertexExtremes vertex_extremes(std::span<const Face> faces, unsigned wanted) {
+  VertexExtremes out;
+  const std::size_t m = faces.size();
+  wanted &= 0x3fu;
+  if (m < 4 || m > kVertexFaces || !wanted) return out;
+  // A vertex from faces whose normals' triple product is below this is too ill-conditioned to
+  // be worth it (its rounding grows as 1 / det); the LP answers those blocks.
+  constexpr double kMinDet = 1e-4;
+  // A multiplier this far below zero still proves optimality to ~1e-12 of the block's size.
+  constexpr double kMultiplierSlack = 1e-12;
+  double dmax = 0;
+  for (const Face& f : faces) dmax = std::max(dmax, std::abs(f.d));
+  std::array<Vec3, kVertexFaces * kVertexFaces> cross;  // cross[i * m + j] = n_i x n_j, i < j
+  for (std::size_t i = 0; i < m; ++i)
+    for (std::size_t j = i + 1; j < m; ++j)
+      cross[i * m + j] = faces[i].normal.cross(faces[j].normal);
+  for (std::size_t i = 0; i < m; ++i) {
+    for (std::size_t j = i + 1; j < m; ++j) {
+      for (std::size_t k = j + 1; k < m; ++k) {
+        // x = (d_i a + d_j b + d_k c) / det with a = n_j x n_k, b = n_k x n_i, c = n_i x n_j:
+        // the rows of the inverse of (n_i n_j n_k)^T are a, b, c over det, so the multipliers
+        // of objective e_t are (a_t, b_t, c_t) / det.
+        const Vec3& a = cross[j * m + k];
+        const Vec3 b = -cross[i * m + k];
+        const Vec3& c = cross[i * m + j];
+        const double det = faces[i].normal.dot(a);
+        if (!(std::abs(det) >= kMinDet)) continue;
+        const Vec3 ra = a / det, rb = b / det, rc = c / det;
+        unsigned proves = 0;
+        for (int t = 0; t < 3; ++t) {
+          if (ra[t] >= -kMultiplierSlack && rb[t] >= -kMultiplierSlack &&
+              rc[t] >= -kMultiplierSlack)
+            proves |= 1u << (2 * t);
+          if (ra[t] <= kMultiplierSlack && rb[t] <= kMultiplierSlack && rc[t] <= kMultiplierSlack)
+            proves |= 1u << (2 * t + 1);
+        }
+        proves &= wanted & ~out.found;
+        if (!proves) continue;
+        const Vec3 x = faces[i].d * ra + faces[j].d * rb + faces[k].d * rc;
+        const double slack = 16 * std::numeric_limits<double>::epsilon() * dmax / std::abs(det);
+        bool inside = true;
+        for (std::size_t f = 0; f < m && inside; ++f)
+          inside = faces[f].normal.dot(x) <= faces[f].d + slack;
+        if (!inside) continue;
+        for (int dir = 0; dir < 6; ++dir)
+          if (proves & (1u << dir)) out.x[std::size_t(dir)] = x;
+        out.found |= proves;
+        if (out.found == wanted) return out;
+      }
+    }
+  }
+  return out;
+}
+
 Extents extents(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol) {
-  DenseLp& lp = extents_lp(solver, faces, tol);
+  check_faces(faces, "extents");
+  const VertexExtremes v =
+      solver.backend() == LpBackend::native ? vertex_extremes(faces, 0x3fu) : VertexExtremes{};
+  DenseLp* lp = nullptr;
   Extents out;
   out.status = LpStatus::optimal;
   for (int k = 0; k < 3 && out.status == LpStatus::optimal; ++k) {
     for (const double sign : {1.0, -1.0}) {
-      lp.c.setZero();
-      lp.c[k] = sign;
-      const LpResult r = solver.solve(lp);
+      const int dir = 2 * k + (sign > 0 ? 0 : 1);
+      if (v.found & (1u << dir)) {
+        (sign > 0 ? out.max : out.min)[k] = v.x[std::size_t(dir)][k];
+        continue;
+      }
+      if (!lp) lp = &extents_lp(solver, faces, tol);
+      lp->c.setZero();
+      lp->c[k] = sign;
+      const LpResult r = solver.solve(*lp);
+      ++out.lps;
       if (r.status != LpStatus::optimal) {
         out.status = r.status;
         break;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <climits>
 #include <cmath>
@@ -218,11 +219,21 @@ class Subdivision {
                          const Plane* plane = nullptr) {
     DenseLp* lp = nullptr;
     Vec3 lo, hi;
+    unsigned inherited = 0;
+    if (parent)
+      for (int k = 0; k < 6; ++k)
+        if (plane->distance(parent->x[std::size_t(k)]) < -ctx.tol.geometry) inherited |= 1u << k;
+    const VertexExtremes v = solver.backend() == LpBackend::native
+                                 ? vertex_extremes(b.faces, 0x3fu & ~inherited)
+                                 : VertexExtremes{};
+    lps.vertex_extremes += static_cast<std::size_t>(std::popcount(v.found));
     for (int k = 0; k < 6; ++k) {
       const int axis = k / 2;
       const double sign = k % 2 == 0 ? 1.0 : -1.0;
-      if (parent && plane->distance(parent->x[std::size_t(k)]) < -ctx.tol.geometry) {
+      if (inherited & (1u << k)) {
         ext.x[std::size_t(k)] = parent->x[std::size_t(k)];
+      } else if (v.found & (1u << k)) {
+        ext.x[std::size_t(k)] = v.x[std::size_t(k)];
       } else {
         if (!lp) lp = &extents_lp(solver, b.faces, ctx.tol);
         lp->c.setZero();
@@ -413,6 +424,7 @@ void add(LpCounts& a, const LpCounts& b) {
   a.redundancy += b.redundancy;
   a.contact += b.contact;
   a.failed += b.failed;
+  a.vertex_extremes += b.vertex_extremes;
 }
 
 /// A node of the task tree: a subdivision, the joints it is to cut by and, once it has split,
@@ -775,6 +787,7 @@ class Cutter {
   // [options] fixed_faces: a block that reaches a named face of the domain's bounding box, to
   // within the geometry tolerance, is fixed. Its extents (six LPs) only when faces are named.
   void mark_fixed() {
+    std::atomic<std::size_t> lp_count{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size(), 256),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         LpSolver& solver = referees_.local().solver();
@@ -783,6 +796,7 @@ class Cutter {
                           const Extents e = extents(solver, b.faces, ctx_.tol);
                           // Failed LPs were solved again exactly.
                           SLICE_ASSERT(e.status == LpStatus::optimal);
+                          lp_count += static_cast<std::size_t>(e.lps);
                           const Vec3 lo = b.origin + e.min, hi = b.origin + e.max;
                           for (int k = 0; k < 6; ++k) {
                             if (!(js_.options.fixed_faces & (1u << k))) continue;
@@ -794,7 +808,8 @@ class Cutter {
                           }
                         }
                       });
-    stats_.lps.extents += 6 * blocks_.size();
+    stats_.lps.extents += lp_count;
+    stats_.lps.vertex_extremes += 6 * blocks_.size() - lp_count;
     for (const Block& b : blocks_) stats_.fixed += (b.flags & kFixed) ? 1 : 0;
   }
 
@@ -809,7 +824,8 @@ class Cutter {
     core = b.faces;
     for (Face& f : core) f.d -= (1 - kCoreShrink) * c.radius;
     const Extents e = extents(solver, core, ctx_.tol);
-    lps.chebyshev += 6;
+    lps.chebyshev += static_cast<std::size_t>(e.lps);
+    lps.vertex_extremes += static_cast<std::size_t>(6 - e.lps);
     if (e.status != LpStatus::optimal) {
       ++lps.failed;
       return c.centre;
