@@ -194,6 +194,9 @@ struct Scene {
 struct JointSystem {
   std::string name;
   std::uint64_t seed = 0;
+  /// 3, or 2 for a section in (x, z) (docs/2d.md): every normal and point has y = 0, the
+  /// domain and the blocks have no faces normal to y. HDF5 root attribute `dimension`.
+  int dimension = 3;
   Region domain;
   double length_scale = 1;  // the domain's bounding radius: half its bounding-box diagonal
   SliceOptions options;
