@@ -17,8 +17,8 @@ ordered_json describe_joints(const slice::JointSystem& js) {
   ordered_json j;
   j["name"] = js.name;
   j["seed"] = js.seed;
-  const auto poly =
-      slice::analyse_polytope(js.domain.planes, js.options.tolerance * js.length_scale);
+  const auto poly = slice::analyse_polytope(slice::solid_region(js.domain, js.dimension),
+                                            js.options.tolerance * js.length_scale);
   const auto xyz = [](const slice::Vec3& v) {  // + 0.0 prints -0.0 as 0
     return ordered_json::array({v.x() + 0.0, v.y() + 0.0, v.z() + 0.0});
   };

@@ -158,12 +158,19 @@ struct Extents {
   Vec3 min = Vec3::Zero(), max = Vec3::Zero();  // block frame
   Vec3 centre = Vec3::Zero();                   // block frame
   double radius = 0;
-  int lps = 0;  // LPs solved: the others were found at vertices (vertex_extremes)
+  int lps = 0;          // LPs solved
+  int at_vertices = 0;  // extremes found at vertices instead (vertex_extremes)
 };
 Extents extents(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol);
 /// The extents LPs' rows in the solver's scratch LP, maximising, objective unset: set c to
 /// +-e_k and solve, as extents() does (for a caller that solves only some of the six).
 DenseLp& extents_lp(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol);
+
+/// The LP column of coordinate `axis` (0 x, 1 y, 2 z): itself in 3-D; in a 2-D section
+/// (tol.dimension == 2) x is column 0, z column 1 and y has none (-1).
+int lp_column(int axis, const Tolerances& tol);
+/// An LP's optimal point as a position: (x, y, z), or (x, 0, z) from columns 0 and 1 in 2-D.
+Vec3 lp_point(const LpResult& r, const Tolerances& tol);
 
 /// Extremes of a block found where three of its faces meet: x[2k] maximises coordinate k,
 /// x[2k + 1] minimises it, for the directions `wanted` (bit 2k: +e_k, bit 2k + 1: -e_k). A

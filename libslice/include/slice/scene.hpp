@@ -179,6 +179,7 @@ struct Scene {
   std::string name;
   std::uint64_t seed = 0;
   std::int64_t max_joints = kDefaultMaxJoints;  // per stochastic set, joints drawn
+  int dimension = 3;                            // [scene] dimension: 2 for a section (x, z)
   Region domain;
   SliceOptions options;
   std::vector<Joint> joints;  // [[joints]], in file order, then the construction joints of
@@ -226,6 +227,11 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name);
 
 /// Generates every joint of the scene (sets expanded) in introduction order.
 JointSystem generate_joints(const Scene& scene);
+
+/// The region's planes closed, in 2-D, by y = -0.5 and y = 0.5: the unit-thickness slab a
+/// section stands for (docs/2d.md), for 3-D polytope analysis (vertices, bounding box; its
+/// volume is the section's area). In 3-D the region's own planes.
+std::vector<Plane> solid_region(const Region& region, int dimension);
 
 /// fixed_faces as written in scene files and joints.h5: "-z,+x" (kBoxFaceNames order); "" for none.
 std::string fixed_faces_string(std::uint8_t faces);

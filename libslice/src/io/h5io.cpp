@@ -127,12 +127,22 @@ void check_joints(const Checker& c, const JointSystem& js) {
     c.fail("/domain attribute length_scale is " + num(js.length_scale) +
            "; expected a positive length");
   check_planes(c, "/domain", js.domain.planes, 0);
+  // A section in (x, z) (docs/2d.md): every normal and point has y = 0.
+  const auto in_section = [&](const Vec3& v, const char* dataset, std::size_t row) {
+    if (js.dimension == 2 && v.y() != 0)
+      c.fail(at(dataset, row) + " has y = " + num(v.y()) +
+             "; a 2-D file (root attribute dimension 2) has y = 0 everywhere");
+  };
+  for (std::size_t i = 0; i < js.domain.planes.size(); ++i)
+    in_section(js.domain.planes[i].normal, "/domain/normal", i);
 
   const auto sets = static_cast<std::int64_t>(js.sets.size());
   std::size_t uv_row = 0;
   for (std::size_t i = 0; i < js.joints.size(); ++i) {
     const Joint& j = js.joints[i];
     c.unit(j.plane.normal, At{"/joints/normal", i});
+    in_section(j.plane.normal, "/joints/normal", i);
+    in_section(j.centre, "/joints/centre", i);
     c.finite(j.plane.d, At{"/joints/d", i});
     c.finite(j.centre, At{"/joints/centre", i});
     c.finite(j.dip_deg, At{"/joints/dip", i});
@@ -339,8 +349,15 @@ void check_blocks(const Checker& c, const BlockSystem& bs, bool with_geometry = 
   for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
     const Block& blk = bs.blocks[b];
     c.finite(blk.origin, At{"/blocks/origin", b});
+    const bool section = bs.joints.dimension == 2;
+    if (section && blk.origin.y() != 0)
+      c.fail(at("/blocks/origin", b) + " has y = " + num(blk.origin.y()) +
+             "; a 2-D file (root attribute dimension 2) has y = 0 everywhere");
     for (const Face& f : blk.faces) {
       c.unit(f.normal, At{"/blocks/face_normal", face_row});
+      if (section && f.normal.y() != 0)
+        c.fail(at("/blocks/face_normal", face_row) + " has y = " + num(f.normal.y()) +
+               "; a 2-D file (root attribute dimension 2) has y = 0 everywhere");
       c.finite(f.d, At{"/blocks/face_d", face_row});
       if (f.joint < -1 || f.joint >= joints)
         c.fail(at("/blocks/face_joint", face_row) + " is " + str(f.joint) +
@@ -364,7 +381,7 @@ void write_header(const Group& root, FileKind kind, const Provenance& prov, cons
   root.write_attribute<std::string>("schema", kSchemaName);
   root.write_attribute<std::int64_t>("schema_version", kSchemaVersion);
   root.write_attribute<std::string>("kind", to_string(kind));
-  root.write_attribute<std::int64_t>("dimension", 3);
+  root.write_attribute<std::int64_t>("dimension", js.dimension);
   root.write_attribute("tool", prov.tool);
   root.write_attribute("tool_version", prov.version);
   root.write_attribute("command_line", prov.command_line);
@@ -698,10 +715,10 @@ FileHeader read_root_header(const Group& root) {
   else
     fail(root, "root attribute kind is \"" + kind + "\"; expected \"joints\" or \"blocks\"");
   const auto dimension = root.read_attribute<std::int64_t>("dimension");
-  if (dimension != 3)
+  if (dimension != 3 && dimension != 2)
     throw Error(file, "root attribute dimension is " + str(dimension),
-                "this rockslice reads 3-D files only");
-  h.dimension = 3;
+                "expected 3, or 2 for a section in (x, z); regenerate the file");
+  h.dimension = static_cast<int>(dimension);
   h.provenance.tool = root.read_attribute<std::string>("tool");
   h.provenance.version = root.read_attribute<std::string>("tool_version");
   h.provenance.command_line = root.read_attribute<std::string>("command_line");
@@ -797,6 +814,7 @@ std::vector<TriangleMesh> read_zone_meshes(const Group& g) {
 
 JointSystem read_joint_groups(const Group& root) {
   JointSystem js;
+  js.dimension = read_root_header(root).dimension;
   js.name = root.read_attribute<std::string>("name");
   js.seed = root.read_attribute<std::uint64_t>("seed");
   {

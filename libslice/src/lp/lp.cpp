@@ -66,7 +66,83 @@ void plane_basis(const Vec3& n, Vec3& u, Vec3& v) {
   v = n.cross(u);
 }
 
+// --- 2-D: a section in (x, z) (Tolerances::dimension == 2, docs/2d.md). The LPs take the
+// columns x and z; a face must be normal to the section, a polygon edge normal to y (the
+// unit-thickness rectangle's ends) is left out.
+constexpr double kSectionSlack = 1e-12;  // |n_y| of a section's face: rounding at most
+
+bool section(const Tolerances& tol) { return tol.dimension == 2; }
+
+void check_in_section(const Vec3& n, const char* where, const char* what, std::size_t i) {
+  if (!(std::abs(n.y()) <= kSectionSlack))
+    throw Error(where,
+                std::string(what) + " " + std::to_string(i) +
+                    " has a normal with y = " + std::to_string(n.y()) + " in a 2-D section",
+                "a 2-D block's faces are normal to the section (y = 0); check the file's "
+                "dimension attribute");
+}
+
+/// check_faces, and in 2-D that every face is normal to the section.
+double check_block(std::span<const Face> faces, const Tolerances& tol, const char* where) {
+  const double dmax = check_faces(faces, where);
+  if (section(tol))
+    for (std::size_t i = 0; i < faces.size(); ++i)
+      check_in_section(faces[i].normal, where, "face", i);
+  return dmax;
+}
+
+/// A row's coefficients in the LP's space: (x, z) in 2-D, (x, y, z) in 3-D; `last` follows.
+LpVec row_of(const Vec3& n, const Tolerances& tol, double last = 0) {
+  return section(tol) ? LpVec(n.x(), n.z(), last, 0) : LpVec(n.x(), n.y(), n.z(), last);
+}
+
+/// Boon et al. 2015, eq. 7 / 16 in 2-D: the joint's line x = p0 + u U (U in the section), the
+/// LP in (u, s). Edges normal to y are the ends of the unit-thickness rectangle: left out.
+CutTest cut_test_section(LpSolver& solver, std::span<const Face> faces, const Plane& plane,
+                         std::span<const Plane> edges, const Tolerances& tol) {
+  check_unit(plane.normal, plane.d, "cut test", "joint plane", 0);
+  check_in_section(plane.normal, "cut test", "joint plane", 0);
+  const double dmax = check_block(faces, tol, "cut test");
+  const double scale = block_scale(dmax, tol);
+  const Vec3 u(-plane.normal.z(), 0, plane.normal.x());
+  const Vec3 p0 = plane.d * Vec3(plane.normal.x(), 0, plane.normal.z());
+  DenseLp& lp = solver.scratch();
+  lp.reset(2);
+  lp.c = LpVec(0, 1, 0, 0);
+  lp.lower[1] = -(2 * dmax + tol.length_scale);
+  lp.scale = scale;
+  const auto put = [&](const Vec3& n, double d) {
+    lp.add_row(LpVec(n.x() * u.x() + n.z() * u.z(), -1, 0, 0),
+               d - (n.x() * p0.x() + n.z() * p0.z()));
+  };
+  for (const Face& f : faces) put(f.normal, f.d);
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    check_unit(edges[k].normal, edges[k].d, "cut test", "polygon edge", k);
+    if (std::abs(edges[k].normal.y()) > 0.5) continue;  // an end of the rectangle in y
+    check_in_section(edges[k].normal, "cut test", "polygon edge", k);
+    put(edges[k].normal, edges[k].d);
+  }
+  const LpResult r = solver.solve(lp);
+  CutTest out;
+  out.status = r.status;
+  if (r.status == LpStatus::optimal) {
+    out.s = r.x[1];
+    out.point = p0 + r.x[0] * u;
+    out.cuts = out.s < -tol.cut;
+  }
+  return out;
+}
+
 }  // namespace
+
+int lp_column(int axis, const Tolerances& tol) {
+  if (tol.dimension != 2) return axis;
+  return axis == 0 ? 0 : axis == 2 ? 1 : -1;
+}
+
+Vec3 lp_point(const LpResult& r, const Tolerances& tol) {
+  return tol.dimension == 2 ? Vec3(r.x[0], 0, r.x[1]) : Vec3(r.x.head<3>());
+}
 
 std::string to_string(LpBackend backend) {
   switch (backend) {
@@ -236,6 +312,7 @@ CutTest cut_test_result(const LpResult& r, const PlaneFrame& frame, const Tolera
 
 CutTest cut_test(LpSolver& solver, std::span<const Face> faces, const Plane& plane,
                  std::span<const Plane> edges, const Tolerances& tol) {
+  if (section(tol)) return cut_test_section(solver, faces, plane, edges, tol);
   const CutLp cut = cut_setup(faces, plane, edges, tol);
   return cut_test_result(solver.solve_cut(cut), cut.frame, tol);
 }
@@ -248,16 +325,14 @@ FaceRedundancy face_redundancy(LpSolver& solver, std::span<const Face> faces, st
                 "face " + std::to_string(index) + " of a block with " +
                     std::to_string(faces.size()) + " faces",
                 "pass the index of one of the block's faces");
-  const double dmax = check_faces(faces, "face redundancy");
+  const double dmax = check_block(faces, tol, "face redundancy");
   DenseLp& lp = solver.scratch();
-  lp.reset(3);
+  lp.reset(section(tol) ? 2 : 3);
   lp.maximise = true;
-  lp.c.head<3>() = faces[index].normal;
+  lp.c = row_of(faces[index].normal, tol);
   lp.scale = block_scale(dmax, tol);
   for (std::size_t i = 0; i < faces.size(); ++i)
-    if (i != index)
-      lp.add_row(LpVec(faces[i].normal.x(), faces[i].normal.y(), faces[i].normal.z(), 0),
-                 faces[i].d);
+    if (i != index) lp.add_row(row_of(faces[i].normal, tol), faces[i].d);
   const LpResult r = solver.solve(lp);
   FaceRedundancy out;
   out.status = r.status;
@@ -272,12 +347,12 @@ FaceRedundancy face_redundancy(LpSolver& solver, std::span<const Face> faces, st
 
 // Boon et al. 2015, eq. 17: maximise +-e_k . x over the block, six LPs on the same rows.
 DenseLp& extents_lp(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol) {
-  const double dmax = check_faces(faces, "extents");
+  const double dmax = check_block(faces, tol, "extents");
   DenseLp& lp = solver.scratch();
-  lp.reset(3);
+  lp.reset(section(tol) ? 2 : 3);
   lp.maximise = true;
   lp.scale = block_scale(dmax, tol);
-  for (const Face& f : faces) lp.add_row(LpVec(f.normal.x(), f.normal.y(), f.normal.z(), 0), f.d);
+  for (const Face& f : faces) lp.add_row(row_of(f.normal, tol), f.d);
   return lp;
 }
 
@@ -336,9 +411,10 @@ VertexExtremes vertex_extremes(std::span<const Face> faces, unsigned wanted) {
 }
 
 Extents extents(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol) {
-  check_faces(faces, "extents");
-  const VertexExtremes v =
-      solver.backend() == LpBackend::native ? vertex_extremes(faces, 0x3fu) : VertexExtremes{};
+  check_block(faces, tol, "extents");
+  const VertexExtremes v = solver.backend() == LpBackend::native && !section(tol)
+                               ? vertex_extremes(faces, 0x3fu)
+                               : VertexExtremes{};
   DenseLp* lp = nullptr;
   Extents out;
   out.status = LpStatus::optimal;
@@ -347,11 +423,14 @@ Extents extents(LpSolver& solver, std::span<const Face> faces, const Tolerances&
       const int dir = 2 * k + (sign > 0 ? 0 : 1);
       if (v.found & (1u << dir)) {
         (sign > 0 ? out.max : out.min)[k] = v.x[std::size_t(dir)][k];
+        ++out.at_vertices;
         continue;
       }
+      const int column = lp_column(k, tol);
+      if (column < 0) continue;  // y in a section: 0 at both ends
       if (!lp) lp = &extents_lp(solver, faces, tol);
       lp->c.setZero();
-      lp->c[k] = sign;
+      lp->c[column] = sign;
       const LpResult r = solver.solve(*lp);
       ++out.lps;
       if (r.status != LpStatus::optimal) {
@@ -369,18 +448,20 @@ Extents extents(LpSolver& solver, std::span<const Face> faces, const Tolerances&
 
 // Boon et al. 2015, eq. 18: minimise t s.t. a_i . x - d_i <= t (unit a_i); radius = -t*.
 ChebyshevBall chebyshev_ball(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol) {
-  const double dmax = check_faces(faces, "Chebyshev centre");
+  const double dmax = check_block(faces, tol, "Chebyshev centre");
+  const int t = section(tol) ? 2 : 3;  // the column of the radius variable
   DenseLp& lp = solver.scratch();
-  lp.reset(4);
-  lp.c = LpVec(0, 0, 0, 1);
+  lp.reset(t + 1);
+  lp.c.setZero();
+  lp.c[t] = 1;
   lp.scale = block_scale(dmax, tol);
-  for (const Face& f : faces) lp.add_row(LpVec(f.normal.x(), f.normal.y(), f.normal.z(), -1), f.d);
+  for (const Face& f : faces) lp.add_row(row_of(f.normal, tol, -1), f.d);
   const LpResult r = solver.solve(lp);
   ChebyshevBall out;
   out.status = r.status;
   if (r.status == LpStatus::optimal) {
-    out.centre = r.x.head<3>();
-    out.radius = -r.x[3];
+    out.centre = lp_point(r, tol);
+    out.radius = -r.x[t];
   }
   return out;
 }

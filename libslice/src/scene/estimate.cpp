@@ -50,8 +50,10 @@ std::int64_t count_between(const Group& g, double lo, double hi) {
 
 BlockEstimate estimate_blocks(const JointSystem& js) {
   BlockEstimate e;
-  const PolytopeInfo dom =
-      analyse_polytope(js.domain.planes, js.options.tolerance * js.length_scale);
+  // A 2-D section as its slab: every plane is normal to it, so L counts the section's crossing
+  // points and V is 0 (docs/2d.md).
+  const std::vector<Plane> domain = solid_region(js.domain, js.dimension);
+  const PolytopeInfo dom = analyse_polytope(domain, js.options.tolerance * js.length_scale);
   if (!dom.bounded || dom.vertices.empty()) return e;
   const double tol = js.options.tolerance * js.length_scale;
 
@@ -81,7 +83,7 @@ BlockEstimate estimate_blocks(const JointSystem& js) {
   for (std::size_t a = 0; a < groups.size(); ++a)
     for (std::size_t b = a + 1; b < groups.size(); ++b)
       pairs += double(groups[a].d.size()) * double(groups[b].d.size());
-  const double work = pairs * double(js.domain.planes.size() + groups.size());
+  const double work = pairs * double(domain.size() + groups.size());
   const double stride = std::max(1.0, std::ceil(work / kBudget));
   e.sampled = stride > 1;
   double next = 0;  // the index (over all pairs, in order) of the next pair to look at
@@ -104,7 +106,7 @@ BlockEstimate estimate_blocks(const JointSystem& js) {
         // The point of the line nearest the origin: both planes, and u . p = 0.
         const Vec3 p = (da * gb.normal.cross(u) + db * u.cross(ga.normal)) / n2;
         double t0 = 0, t1 = 0;
-        if (!clip(js.domain.planes, p, u, tol, t0, t1)) continue;
+        if (!clip(domain, p, u, tol, t0, t1)) continue;
         e.lines += stride;
         const Vec3 x0 = p + t0 * u, x1 = p + t1 * u;
         for (std::size_t c = b + 1; c < groups.size(); ++c)

@@ -50,6 +50,15 @@ std::optional<JointKind> parse_joint_kind(std::string_view s) {
 std::optional<JointOrder> parse_joint_order(std::string_view s) {
   return parse_name<JointOrder>(s, kJointOrderNames);
 }
+std::vector<Plane> solid_region(const Region& region, int dimension) {
+  std::vector<Plane> planes = region.planes;
+  if (dimension == 2) {
+    planes.push_back({-Vec3::UnitY(), 0.5});
+    planes.push_back({Vec3::UnitY(), 0.5});
+  }
+  return planes;
+}
+
 std::string fixed_faces_string(std::uint8_t faces) {
   std::string s;
   for (std::size_t k = 0; k < kBoxFaceNames.size(); ++k)
@@ -96,7 +105,8 @@ using Keys = std::span<const std::string_view>;
 // The keys of each table of a scene file (DESIGN section 6).
 constexpr std::array<std::string_view, 6> kTopTables = {"scene",  "domain", "options",
                                                         "joints", "sets",   "zones"};
-constexpr std::array<std::string_view, 4> kSceneKeys = {"name", "seed", "tolerance", "max_joints"};
+constexpr std::array<std::string_view, 5> kSceneKeys = {"name", "seed", "tolerance", "max_joints",
+                                                        "dimension"};
 constexpr std::array<std::string_view, 2> kRegionKeys = {"box", "planes"};
 // A zone is a region, a tunnel or a mesh; `cut` and `stage` apply to tunnels and meshes.
 constexpr std::array<std::string_view, 6> kZoneKeys = {"box",  "planes", "tunnel",
@@ -109,9 +119,9 @@ constexpr std::array<std::string_view, 2> kBoxKeys = {"min", "max"};
 constexpr std::array<std::string_view, 2> kPlaneKeys = {"normal", "d"};
 constexpr std::array<std::string_view, 5> kOptionKeys = {
     "order", "min_inscribed_diameter", "max_aspect_ratio", "max_blocks", "fixed_faces"};
-constexpr std::array<std::string_view, 11> kJointKeys = {
+constexpr std::array<std::string_view, 12> kJointKeys = {
     "dip",      "dip_direction", "point", "polygon", "polygon_uv", "kind", "friction_angle",
-    "cohesion", "keep",          "stage", "limits"};
+    "cohesion", "keep",          "stage", "limits",  "segment"};
 constexpr std::array<std::string_view, 23> kSetKeys = {
     "name",           "dip",      "dip_direction", "spacing", "offset", "kind", "keep",
     "friction_angle", "cohesion", "fisher_kappa",  "density", "count",  "p32",  "p10",
@@ -459,7 +469,9 @@ struct RegionAnalysis {
 // the planes' offsets finds the vertices roughly; the length scale L of those sets the absolute
 // tolerance rel * L of the second pass, so a scene in mm or shifted by 1e6 m gives the same
 // answers as the same scene in m at the origin (DESIGN section 10).
-RegionAnalysis analyse_region(std::span<const Plane> planes, double rel) {
+// A 2-D section's planes are its slab's (solid_region); its size is measured in (x, z).
+RegionAnalysis analyse_region(std::span<const Plane> planes, double rel, int dimension) {
+  const bool section = dimension == 2;
   RegionAnalysis a;
   double dmax = 0;
   for (const auto& p : planes) dmax = std::max(dmax, std::abs(p.d));
@@ -476,7 +488,9 @@ RegionAnalysis analyse_region(std::span<const Plane> planes, double rel) {
     return a;
   }
   if (a.info.vertices.empty() || !a.info.has_interior) return a;
-  a.length_scale = 0.5 * (a.info.max - a.info.min).norm();
+  Vec3 size = a.info.max - a.info.min;
+  if (section) size.y() = 0;
+  a.length_scale = 0.5 * size.norm();
   a.status = a.length_scale > 0 ? RegionStatus::ok : RegionStatus::empty;
   return a;
 }
@@ -491,11 +505,18 @@ std::pair<double, double> extent_along(const std::vector<Vec3>& vertices, const 
   return {lo, hi};
 }
 
+// The upward unit normal of dip / dip direction; in a 2-D section (dip direction 90 or 270)
+// exactly (+-sin dip, 0, cos dip), so that every normal has y = 0 (docs/2d.md).
+Vec3 dip_normal(double dip_deg, double dip_direction_deg, int dimension) {
+  if (dimension == 3) return normal_from_dip(dip_deg, dip_direction_deg);
+  const double dip = dip_deg * std::numbers::pi / 180;
+  return {(dip_direction_deg == 270 ? -1.0 : 1.0) * std::sin(dip), 0.0, std::cos(dip)};
+}
+
 // The planes n . x = offset + k * spacing of a set that pass through the domain's interior:
 // lo + tol < c < hi - tol, so a plane on a domain face (or within tol of it) is not generated.
-std::vector<double> set_planes(const JointSetSpec& s, const std::vector<Vec3>& vertices,
-                               double tol) {
-  const Vec3 n = normal_from_dip(s.dip_deg, s.dip_direction_deg);
+std::vector<double> set_planes(const JointSetSpec& s, const Vec3& n,
+                               const std::vector<Vec3>& vertices, double tol) {
   const auto [lo, hi] = extent_along(vertices, n);
   std::vector<double> c;
   const double k0 = std::ceil((lo + tol - s.offset) / s.spacing) - 1;
@@ -509,28 +530,45 @@ std::vector<double> set_planes(const JointSetSpec& s, const std::vector<Vec3>& v
   return c;
 }
 
+// A point or direction of the scene: [x, y, z], or [x, z] in 2-D (y = 0; docs/2d.md).
+Vec3 to_point(const Reader& r, const toml::node& n, const std::string& label, int dimension) {
+  if (dimension == 3) return to_vector<3>(r, n, label);
+  const auto* a = n.as_array();
+  if (!a || a->size() != 2)
+    r.fail(n,
+           label + " must be 2 numbers [x, z] in a 2-D scene, not " +
+               (a ? "an array of " + std::to_string(a->size()) : type_name(n)),
+           "write it as [x, z]: a 2-D scene is a section in (x, z)");
+  return {to_number(r, *a->get(0), label), 0.0, to_number(r, *a->get(1), label)};
+}
+
 // The region of a table with `box` or `planes` (its keys already checked).
-Region region_of(const Tbl& t) {
+Region region_of(const Tbl& t, int dimension) {
   const Reader& r = t.r;
   const toml::node* box = t.find("box");
   const toml::node* planes = t.find("planes");
   const std::string both =
-      "box = { min = [x, y, z], max = [x, y, z] } or planes = [ { normal = [nx, ny, nz], d = d "
-      "}, ... ] (outward normals, normal . x <= d inside)";
+      dimension == 3
+          ? "box = { min = [x, y, z], max = [x, y, z] } or planes = [ { normal = [nx, ny, nz], d "
+            "= d }, ... ] (outward normals, normal . x <= d inside)"
+          : "box = { min = [x, z], max = [x, z] } or planes = [ { normal = [nx, nz], d = d }, "
+            "... ] (outward normals, normal . x <= d inside)";
+  const std::string corner = dimension == 3 ? "[x, y, z]" : "[x, z]";
   if (box && planes) r.fail(*planes, t.ctx + " gives both 'box' and 'planes'", "keep one of them");
   if (!box && !planes) r.fail(t.t, t.ctx + " has neither 'box' nor 'planes'", "add " + both);
   Region region;
   if (box) {
-    const Tbl b{
-        r, as_table(r, *box, t.label("box"), "write box = { min = [x, y, z], max = [x, y, z] }"),
-        "'box' of " + t.ctx};
+    const Tbl b{r,
+                as_table(r, *box, t.label("box"),
+                         "write box = { min = " + corner + ", max = " + corner + " }"),
+                "'box' of " + t.ctx};
     b.check_keys(kBoxKeys);
-    const Vec3 mn =
-        to_vector<3>(r, b.require("min", "add min = [x, y, z], the lower corner"), b.label("min"));
-    const Vec3 mx =
-        to_vector<3>(r, b.require("max", "add max = [x, y, z], the upper corner"), b.label("max"));
+    const Vec3 mn = to_point(r, b.require("min", "add min = " + corner + ", the lower corner"),
+                             b.label("min"), dimension);
+    const Vec3 mx = to_point(r, b.require("max", "add max = " + corner + ", the upper corner"),
+                             b.label("max"), dimension);
     for (int i = 0; i < 3; ++i)
-      if (!(mn(i) < mx(i))) {
+      if (!(mn(i) < mx(i)) && !(dimension == 2 && i == 1)) {
         const std::string axis(1, "xyz"[i]);
         r.fail(*b.find("max"),
                "'box' of " + t.ctx + " has min " + axis + " = " + fmt(mn(i)) + " >= max " + axis +
@@ -538,6 +576,8 @@ Region region_of(const Tbl& t) {
                "make min the lower corner and max the upper corner, min < max in every axis");
       }
     region.planes = box_planes(mn, mx);
+    if (dimension == 2)  // no faces normal to y in a section
+      std::erase_if(region.planes, [](const Plane& p) { return p.normal.y() != 0; });
     return region;
   }
   const auto elems = table_array(r, *planes, t.label("planes"), "write " + both);
@@ -545,8 +585,10 @@ Region region_of(const Tbl& t) {
   for (std::size_t i = 0; i < elems.size(); ++i) {
     const Tbl p{r, *elems[i], "plane #" + std::to_string(i + 1) + " of " + t.ctx};
     p.check_keys(kPlaneKeys);
-    const toml::node& nn = p.require("normal", "add normal = [nx, ny, nz], pointing outward");
-    const Vec3 n = to_vector<3>(r, nn, p.label("normal"));
+    const toml::node& nn =
+        p.require("normal", dimension == 3 ? "add normal = [nx, ny, nz], pointing outward"
+                                           : "add normal = [nx, nz], pointing outward");
+    const Vec3 n = to_point(r, nn, p.label("normal"), dimension);
     const double d = required_number(p, "d", "add d, so that the plane is normal . x = d");
     const double len = n.norm();
     if (!(len > 0) || !std::isfinite(len))
@@ -558,9 +600,9 @@ Region region_of(const Tbl& t) {
   return region;
 }
 
-Region read_region(const Tbl& t) {
+Region read_region(const Tbl& t, int dimension) {
   t.check_keys(kRegionKeys);
-  return region_of(t);
+  return region_of(t, dimension);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -619,6 +661,7 @@ void check_polygon(const Reader& r, std::vector<Vec2>& p,
 
 struct Context {
   const Reader& r;
+  int dimension = 3;
   RegionAnalysis domain_info;
   double rel_tol = 1e-9;
   DomainBox box{};  // the domain as the joint generator sees it
@@ -688,6 +731,67 @@ Common read_common(const Tbl& t) {
   return c;
 }
 
+// In a section in (x, z) a joint dips towards +x or -x (docs/2d.md).
+void check_section_dip(const Context& cx, const Tbl& t, const Common& c) {
+  if (cx.dimension == 2 && c.dip_direction != 90 && c.dip_direction != 270)
+    t.r.fail(*t.find("dip_direction"),
+             t.label("dip_direction") + " is " + fmt(c.dip_direction) +
+                 "; in a 2-D scene (a section in x, z) a joint dips towards +x or -x",
+             "write dip_direction = 90 (dips towards +x) or 270 (towards -x)");
+}
+
+// A [[joints]] entry of a 2-D scene: a line through `point`, or the segment `segment` of it,
+// stored as the rectangle of its plane that spans y from -0.5 to 0.5 (docs/2d.md).
+Joint read_joint_2d(const Context& cx, const Tbl& t, const Common& c, Joint j) {
+  const Reader& r = cx.r;
+  for (const char* key : {"polygon", "polygon_uv"})
+    if (const toml::node* n = t.find(key))
+      r.fail(*n, t.label(key) + " is for 3-D scenes",
+             "in a 2-D scene give a finite joint as segment = [[x1, z1], [x2, z2]]");
+  j.centre = to_point(r, t.require("point", "add point = [x, z], a point on the joint's line"),
+                      t.label("point"), 2);
+  const Vec3 n = dip_normal(c.dip, c.dip_direction, 2);
+  j.plane = {n, n.dot(j.centre)};
+  const toml::node* seg = t.find("segment");
+  if (!seg) return j;
+  const double tol = cx.tol();
+  const std::string label = "the segment of " + t.ctx;
+  const auto* a = seg->as_array();
+  if (!a || a->size() != 2)
+    r.fail(*seg,
+           t.label("segment") + " must be two points [[x1, z1], [x2, z2]], not " +
+               (a ? "an array of " + std::to_string(a->size()) : type_name(*seg)),
+           "write segment = [[x1, z1], [x2, z2]], its two ends on the joint's line");
+  std::array<Vec3, 2> ends;
+  for (std::size_t i = 0; i < 2; ++i) {
+    const toml::node& e = *a->get(i);
+    ends[i] = to_point(r, e, "end " + std::to_string(i + 1) + " of " + t.label("segment"), 2);
+    const double off = std::abs(j.plane.distance(ends[i]));
+    if (off > tol)
+      r.fail(e,
+             label + ": end " + std::to_string(i + 1) + " is " + fmt(off) +
+                 " off the joint's line (dip " + fmt(c.dip) + ", dip direction " +
+                 fmt(c.dip_direction) + ", through 'point')",
+             "put the ends on the line or correct dip / dip_direction / point (tolerance " +
+                 fmt(tol, 3) + ")");
+  }
+  if ((ends[1] - ends[0]).norm() <= tol)
+    r.fail(*seg, label + " has no length: its ends are the same point",
+           "give two different ends, or leave 'segment' out for a persistent joint");
+  const JointFrame frame = plane_frame(c.dip, c.dip_direction);
+  std::vector<Vec2> uv;
+  std::vector<const toml::node*> where;
+  for (const Vec3& e : ends)
+    for (const double y : {-0.5, 0.5}) {
+      uv.push_back(frame.to_uv(j.centre, e + y * Vec3::UnitY()));
+      where.push_back(seg);
+    }
+  std::swap(uv[2], uv[3]);  // around the rectangle: a-, a+, b+, b-
+  check_polygon(r, uv, where, *seg, label, tol);
+  j.polygon_uv = std::move(uv);
+  return j;
+}
+
 Joint read_joint(const Context& cx, const toml::table& tt, std::size_t index) {
   const Reader& r = cx.r;
   const Tbl t{r, tt, "[[joints]] #" + std::to_string(index + 1)};
@@ -701,6 +805,11 @@ Joint read_joint(const Context& cx, const toml::table& tt, std::size_t index) {
   j.cohesion = c.cohesion;
   j.boundary_side = c.side;
   j.limits = c.limits;
+  check_section_dip(cx, t, c);
+  if (cx.dimension == 2) return read_joint_2d(cx, t, c, std::move(j));
+  if (const toml::node* n = t.find("segment"))
+    r.fail(*n, t.label("segment") + " is for 2-D scenes",
+           "in a 3-D scene give a finite joint as polygon = [[x, y, z], ...]");
   const JointFrame frame = plane_frame(c.dip, c.dip_direction);
   const toml::node* point = t.find("point");
   const toml::node* poly = t.find("polygon");
@@ -963,6 +1072,17 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
   }
   s.intensity = static_cast<SetIntensity>(given.front());
   const std::string_view ikey = kIntensityKeys[given.front()];
+  check_section_dip(cx, t, c);
+  if (cx.dimension == 2) {
+    if (s.intensity != SetIntensity::spacing)
+      r.fail(*t.find(ikey),
+             t.label(ikey) + ": a 2-D scene's sets are regular lines (spacing) for now",
+             "give spacing = <distance between the lines>, or the joints one by one as "
+             "[[joints]] with segment = [[x1, z1], [x2, z2]]");
+    if (const toml::node* n = t.find("fisher_kappa"))
+      r.fail(*n, t.label("fisher_kappa") + " is not available in a 2-D scene",
+             "remove it: a 2-D set's lines share one orientation");
+  }
 
   if (const toml::node* n = t.find("fisher_kappa")) {
     s.fisher_kappa = to_number(r, *n, t.label("fisher_kappa"));
@@ -997,7 +1117,7 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
     s.spacing =
         positive(t, "spacing", "give the distance between the set's planes, a positive length");
     s.offset = number(t, "offset", 0);
-    const Vec3 n = normal_from_dip(s.dip_deg, s.dip_direction_deg);
+    const Vec3 n = dip_normal(s.dip_deg, s.dip_direction_deg, cx.dimension);
     const auto [lo, hi] = extent_along(cx.domain_info.info.vertices, n);
     if ((hi - lo) / s.spacing > kMaxPlanesPerSet)
       r.fail(*t.find("spacing"),
@@ -1205,7 +1325,7 @@ Tunnel read_tunnel(const Context& cx, const Tbl& zone, const toml::node& node) {
 // True if one of the regions has volume inside the domain.
 bool meets_domain(const Context& cx, std::span<const Region> regions) {
   return std::any_of(regions.begin(), regions.end(), [&](const Region& z) {
-    std::vector<Plane> both = z.planes;
+    std::vector<Plane> both = solid_region(z, cx.dimension);
     both.insert(both.end(), cx.box.planes.begin(), cx.box.planes.end());
     return analyse_polytope(both, cx.tol()).has_interior;
   });
@@ -1275,10 +1395,13 @@ ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
              "add box = { min = [x, y, z], max = [x, y, z] }, planes = [ { normal = [nx, ny, "
              "nz], d = d }, ... ], tunnel = { point = [x, y, z], direction = [dx, dy, dz], "
              "length = L, radius = R } or mesh = \"cavern.obj\"");
-    z.regions.push_back(region_of(t));
+    z.regions.push_back(region_of(t, cx.dimension));
     in_domain = meets_domain(cx, z.regions);
   } else {
     const std::string_view kind = tunnel ? "tunnel" : "mesh";
+    if (cx.dimension == 2)
+      r.fail(tunnel ? *tunnel : *mesh, t.ctx + ": a " + std::string(kind) + " zone is 3-D",
+             "in a 2-D scene give the zone as box = { min = [x, z], max = [x, z] } or planes");
     if (const toml::node* n = first_present(t, kRegionKeys, &which))
       r.fail(*n, t.ctx + " gives both " + quote_key(kind) + " and " + quote_key(which),
              "keep one of them");
@@ -1342,6 +1465,13 @@ void read_scene_table(const Reader& r, const toml::table& st, Scene& scene) {
              "give the most joints one stochastic set may draw, >= 1 (default " +
                  std::to_string(kDefaultMaxJoints) + ")");
   }
+  if (const toml::node* n = t.find("dimension")) {
+    const std::int64_t d = to_integer(r, *n, t.label("dimension"));
+    if (d != 2 && d != 3)
+      r.fail(*n, t.label("dimension") + " is " + std::to_string(d) + ", not 2 or 3",
+             "write dimension = 2 for a section in (x, z) (docs/2d.md), or leave it out for 3-D");
+    scene.dimension = static_cast<int>(d);
+  }
   scene.options.tolerance = number(t, "tolerance", 1e-9);
   if (!(scene.options.tolerance > 0 && scene.options.tolerance < 1))
     r.fail(*t.find("tolerance"),
@@ -1385,6 +1515,9 @@ void read_options(const Reader& r, const toml::table& ot, Scene& scene) {
              "write e.g. fixed_faces = [\"-z\", \"+x\"]");
     for (const toml::node& f : *a) {
       const std::size_t k = to_choice(r, f, label, kBoxFaceNames);
+      if (scene.dimension == 2 && (k == 2 || k == 3))
+        r.fail(f, label + " names \"" + std::string(kBoxFaceNames[k]) + "\" in a 2-D scene",
+               "a section in (x, z) has the faces -x, +x, -z and +z");
       if (scene.options.fixed_faces & (1u << k))
         r.fail(f, label + " names \"" + std::string(kBoxFaceNames[k]) + "\" twice",
                "name each face once");
@@ -1500,8 +1633,10 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
     r.fail(root, "the scene has no [domain]",
            "add [domain] with box = { min = [x, y, z], max = [x, y, z] } or planes = [...]");
   const Tbl dtbl{r, *dt, "[domain]"};
-  scene.domain = read_region(dtbl);
-  Context cx{r, analyse_region(scene.domain.planes, scene.options.tolerance),
+  scene.domain = read_region(dtbl, scene.dimension);
+  const Region solid{solid_region(scene.domain, scene.dimension)};
+  Context cx{r, scene.dimension,
+             analyse_region(solid.planes, scene.options.tolerance, scene.dimension),
              scene.options.tolerance};
   cx.dir = name.parent_path();
   {
@@ -1523,7 +1658,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
     r.fail(*dt, "[domain]: " + why,
            "move the scene nearer the origin (subtract a local origin from every coordinate) or "
            "raise [scene] tolerance");
-  cx.box = domain_box(scene.domain, cx.domain_info, scene.options.tolerance);
+  cx.box = domain_box(solid, cx.domain_info, scene.options.tolerance);
   cx.max_joints = scene.max_joints;
 
   if (const toml::table* ot = single("options")) read_options(r, *ot, scene);
@@ -1580,13 +1715,15 @@ JointSystem generate_joints(const Scene& scene) {
   JointSystem js;
   js.name = scene.name;
   js.seed = scene.seed;
+  js.dimension = scene.dimension;
   js.domain = scene.domain;
   js.options = scene.options;
   js.sets = scene.sets;
   js.zones = scene.zones;
   js.zone_meshes = scene.zone_meshes;
   const std::string where = scene.source.string();
-  const RegionAnalysis dom = analyse_region(scene.domain.planes, scene.options.tolerance);
+  const Region solid{solid_region(scene.domain, scene.dimension)};
+  const RegionAnalysis dom = analyse_region(solid.planes, scene.options.tolerance, scene.dimension);
   if (dom.status != RegionStatus::ok)
     throw Error(where,
                 dom.status == RegionStatus::unbounded ? "the domain is unbounded"
@@ -1597,7 +1734,7 @@ JointSystem generate_joints(const Scene& scene) {
   if (const std::string why = precision_problem(dom.info.min, dom.info.max, tol); !why.empty())
     throw Error(where, why, "move the scene nearer the origin or raise its tolerance");
   const Vec3 mean = dom.info.interior_point;  // the domain's vertex mean
-  const DomainBox box = domain_box(scene.domain, dom, scene.options.tolerance);
+  const DomainBox box = domain_box(solid, dom, scene.options.tolerance);
 
   // [[joints]], then the sets; order_joints then puts them in sequence. A joint that misses the
   // domain entirely is kept: the slicer finds that it cuts nothing.
@@ -1616,7 +1753,7 @@ JointSystem generate_joints(const Scene& scene) {
   }
   for (std::size_t s = 0; s < js.sets.size(); ++s) {
     JointSetSpec& spec = js.sets[s];
-    const Vec3 n = normal_from_dip(spec.dip_deg, spec.dip_direction_deg);
+    const Vec3 n = dip_normal(spec.dip_deg, spec.dip_direction_deg, scene.dimension);
     if (!spec.scanline_given) std::tie(spec.scanline_from, spec.scanline_to) = chord(box, mean, n);
     const std::size_t first = js.joints.size();
     if (spec.intensity != SetIntensity::spacing) {
@@ -1635,7 +1772,7 @@ JointSystem generate_joints(const Scene& scene) {
             where,
             "set \"" + spec.name + "\" would have more than " + fmt(kMaxPlanesPerSet) + " planes",
             "check the units of spacing and of the domain");
-      const std::vector<double> planes = set_planes(spec, dom.info.vertices, tol);
+      const std::vector<double> planes = set_planes(spec, n, dom.info.vertices, tol);
       for (const double c : planes) {
         Joint j;
         j.plane = {n, c};

@@ -223,28 +223,31 @@ class Subdivision {
     if (parent)
       for (int k = 0; k < 6; ++k)
         if (plane->distance(parent->x[std::size_t(k)]) < -ctx.tol.geometry) inherited |= 1u << k;
-    const VertexExtremes v = solver.backend() == LpBackend::native
+    const VertexExtremes v = solver.backend() == LpBackend::native && ctx.tol.dimension == 3
                                  ? vertex_extremes(b.faces, 0x3fu & ~inherited)
                                  : VertexExtremes{};
     lps.vertex_extremes += static_cast<std::size_t>(std::popcount(v.found));
     for (int k = 0; k < 6; ++k) {
       const int axis = k / 2;
       const double sign = k % 2 == 0 ? 1.0 : -1.0;
-      if (inherited & (1u << k)) {
+      const int column = lp_column(axis, ctx.tol);
+      if (column < 0) {
+        ext.x[std::size_t(k)] = Vec3::Zero();  // y in a 2-D section: the section itself
+      } else if (inherited & (1u << k)) {
         ext.x[std::size_t(k)] = parent->x[std::size_t(k)];
       } else if (v.found & (1u << k)) {
         ext.x[std::size_t(k)] = v.x[std::size_t(k)];
       } else {
         if (!lp) lp = &extents_lp(solver, b.faces, ctx.tol);
         lp->c.setZero();
-        lp->c[axis] = sign;
+        lp->c[column] = sign;
         const LpResult r = solver.solve(*lp);
         ++lps.extents;
         if (r.status != LpStatus::optimal) {
           ++lps.failed;
           return false;
         }
-        ext.x[std::size_t(k)] = r.x.head<3>();
+        ext.x[std::size_t(k)] = lp_point(r, ctx.tol);
         // The objective is the extent; the point's coordinate may differ by rounding.
         ext.x[std::size_t(k)][axis] = sign * r.objective;
       }
@@ -516,7 +519,7 @@ class Cutter {
         progress_(progress),
         ctx_{js,
              opt,
-             Tolerances::from_scale(js.length_scale, js.options.tolerance),
+             Tolerances::from_scale(js.length_scale, js.options.tolerance, js.dimension),
              opt.max_blocks > 0 ? opt.max_blocks : js.options.max_blocks,
              js.options.min_inscribed_diameter > 0 || js.options.max_aspect_ratio > 0,
              nullptr},
@@ -583,7 +586,9 @@ class Cutter {
   }
 
   Block domain_block(Extremes& ext) {
-    const PolytopeInfo info = analyse_polytope(js_.domain.planes, ctx_.tol.geometry);
+    // A 2-D section is analysed as its unit-thickness slab; its blocks have no y faces.
+    const PolytopeInfo info =
+        analyse_polytope(solid_region(js_.domain, js_.dimension), ctx_.tol.geometry);
     if (!info.bounded || !info.has_interior)
       throw Error("/domain", "the domain is empty or unbounded", "regenerate it with slice-joints");
     if (const std::string why = precision_problem(info.min, info.max, ctx_.tol.cut); !why.empty())
@@ -787,7 +792,7 @@ class Cutter {
   // [options] fixed_faces: a block that reaches a named face of the domain's bounding box, to
   // within the geometry tolerance, is fixed. Its extents (six LPs) only when faces are named.
   void mark_fixed() {
-    std::atomic<std::size_t> lp_count{0};
+    std::atomic<std::size_t> lp_count{0}, vertex_count{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size(), 256),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         LpSolver& solver = referees_.local().solver();
@@ -797,6 +802,7 @@ class Cutter {
                           // Failed LPs were solved again exactly.
                           SLICE_ASSERT(e.status == LpStatus::optimal);
                           lp_count += static_cast<std::size_t>(e.lps);
+                          vertex_count += static_cast<std::size_t>(e.at_vertices);
                           const Vec3 lo = b.origin + e.min, hi = b.origin + e.max;
                           for (int k = 0; k < 6; ++k) {
                             if (!(js_.options.fixed_faces & (1u << k))) continue;
@@ -809,7 +815,7 @@ class Cutter {
                         }
                       });
     stats_.lps.extents += lp_count;
-    stats_.lps.vertex_extremes += 6 * blocks_.size() - lp_count;
+    stats_.lps.vertex_extremes += vertex_count;
     for (const Block& b : blocks_) stats_.fixed += (b.flags & kFixed) ? 1 : 0;
   }
 
@@ -825,7 +831,7 @@ class Cutter {
     for (Face& f : core) f.d -= (1 - kCoreShrink) * c.radius;
     const Extents e = extents(solver, core, ctx_.tol);
     lps.chebyshev += static_cast<std::size_t>(e.lps);
-    lps.vertex_extremes += static_cast<std::size_t>(6 - e.lps);
+    lps.vertex_extremes += static_cast<std::size_t>(e.at_vertices);
     if (e.status != LpStatus::optimal) {
       ++lps.failed;
       return c.centre;
@@ -959,8 +965,8 @@ PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& prog
                         int threads, bool check_solids) {
   const auto t0 = Clock::now();
   PruneStats st;
-  const Tolerances tol =
-      Tolerances::from_scale(bs.joints.length_scale, bs.joints.options.tolerance);
+  const Tolerances tol = Tolerances::from_scale(bs.joints.length_scale, bs.joints.options.tolerance,
+                                                bs.joints.dimension);
   Referees referees(backend, tol, certify);
   tbb::task_arena arena(threads_for(backend, threads));
   // Blocks are independent. The first error in block order is the one reported, whatever the
