@@ -37,8 +37,9 @@ struct ThreeDecStats {
 };
 
 /// Writes `grid` and `commands` atomically (each through "<file>.partial"). Needs bs.geometry;
-/// throws Error if it is missing or a file cannot be written. The command file names the grid
-/// by its file name if both are in one directory, else by its absolute path.
+/// throws Error if it is missing, for a 2-D section (dimension 2: no 3DEC polyhedra), or if a
+/// file cannot be written. The command file names the grid by its file name if both are in
+/// one directory, else by its absolute path.
 ThreeDecStats write_3dec(const std::filesystem::path& grid, const std::filesystem::path& commands,
                          const BlockSystem& bs);
 

@@ -29,7 +29,9 @@ struct VtuStats {
 /// counter-clockwise from outside, as VTK wants them; each block has its own points). Cell data:
 /// block_id (int64: the row in blocks.h5), volume, inradius, cluster (int64, -1 = none),
 /// boundary (uint8, 0/1), aspect_ratio (bounding-sphere radius / inscribed radius). VTK has no
-/// face data for polyhedron cells, so face-level values stay in the HDF5 file. Throws Error if
+/// face data for polyhedron cells, so face-level values stay in the HDF5 file. A section's blocks
+/// (dimension 2, docs/2d.md) are VTK_POLYGON cells instead, their points in the polygon's
+/// order (y = 0), with the same cell data and no face streams. Throws Error if
 /// the system has no geometry (run slice-vertices) or the file cannot be written. `threads`:
 /// for the compression (0: all cores); the bytes are the same for every count.
 VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& bs,
@@ -39,7 +41,9 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
 /// its plane clipped to the domain; a polygon joint its polygon clipped to the domain). Joints
 /// that do not meet the domain are left out. Cell data: joint_id (int64: the row in /joints),
 /// set (int32, -1 = deterministic), kind (uint8: 0 rock, 1 construction, 2 boundary),
-/// persistent (uint8), friction_angle [degrees], cohesion [Pa].
+/// persistent (uint8), friction_angle [degrees], cohesion [Pa]. In a section (dimension 2)
+/// each joint is a VTK_LINE instead: its line (persistent) or its segment between its
+/// rectangle's ends, clipped to the domain, at y = 0.
 VtuStats write_joints_vtu(const std::filesystem::path& out, const JointSystem& js,
                           VtuCompressor compressor = VtuCompressor::lz4);
 

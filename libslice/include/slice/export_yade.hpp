@@ -13,6 +13,10 @@
 //   - the blocks of a cluster (joined across construction joints) are one clump; a clump with a
 //     boundary block is fixed;
 //   - engines for a settling run under gravity along -z; with steps > 0 the script runs them.
+// A 2-D section (dimension 2, docs/2d.md) is written as Polyhedra prisms of unit thickness (each
+// polygon at y = -0.5 and y = 0.5; YADE computes their mass and inertia from the vertices, as in
+// 3-D) whose bodies and clumps, unless fixed, have blockedDOFs 'yXZ' (they move in (x, z) and
+// turn about y only). potential_blocks refuses a section (Error).
 // Numbers are written in their shortest exact form, so the same blocks give the same bytes.
 #include <cstddef>
 #include <filesystem>

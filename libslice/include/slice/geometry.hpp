@@ -58,7 +58,8 @@ struct Geometry {
   std::vector<std::int64_t> face_vertex_offset{0};  // F + 1: face f's loop is [o_f, o_f+1)
   std::vector<std::int64_t> face_vertices;          // FV: indices into the block's own vertices
                                                     //   (0-based per block), counter-clockwise
-                                                    //   seen from outside
+                                                    //   seen from outside; in 2-D an
+                                                    //   edge's start and end (docs/2d.md)
   std::vector<double> volume;                       // B
   std::vector<Vec3> centroid;                       // B, global frame
   std::vector<Inertia> inertia;                     // B, about the centroid, unit density

@@ -40,6 +40,12 @@ struct BlockGeometry {
 /// no area: fewer than three distinct vertices, or area < tol.geometry * its half perimeter
 /// (its in-plane width is below the tolerance), or a face that is not on the block at all.
 /// Such a face should have been pruned; it points at a slicer defect, not at bad input data.
+/// A block of a section (js.dimension == 2, docs/2d.md) is a convex polygon in (x, z): its
+/// vertices (y = 0) counter-clockwise with x to the right and z up, each face's loop the start
+/// and end of its edge (2 indices), face_area the edge's length, volume the area, inertia the
+/// section's second moments (docs/2d.md), face_joint_fraction the part of the edge between the
+/// ends of a segment joint. It throws as above for a face whose edge is no longer than
+/// tol.geometry, and for a face normal with a y component.
 BlockGeometry block_geometry(const Block& b, const JointSystem& js, const Tolerances& tol,
                              std::size_t id = 0);
 

@@ -19,7 +19,7 @@
 namespace slice {
 namespace {
 
-constexpr std::uint8_t kVtkPolygon = 7, kVtkPolyhedron = 42;  // VTK's cell types
+constexpr std::uint8_t kVtkLine = 3, kVtkPolygon = 7, kVtkPolyhedron = 42;  // VTK's cell types
 constexpr std::size_t kChunkBytes = 1 << 20;  // values gathered before they go to the file
 
 /// Exact text of a value for RangeMin / RangeMax.
@@ -78,6 +78,9 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
     throw Error(out.string(), "the blocks have no vertices (no /geometry)",
                 "run slice-vertices on the blocks file first");
   const Geometry& g = *bs.geometry;
+  // A section's block (docs/2d.md) is a polygon: its vertices are the polygon's points in order
+  // (counter-clockwise in (x, z)), one VTK_POLYGON with no face stream.
+  const bool section = bs.joints.dimension == 2;
   VtuStats st;
   // The kept blocks, their first face row, and the sizes and ranges the header states.
   std::vector<std::size_t> kept, face_row;
@@ -127,11 +130,15 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
                return a;
              }()}},
             {"Cells",
-             {{"Int64", "connectivity"},
-              {"Int64", "offsets"},
-              {"UInt8", "types"},
-              {"Int64", "faces", 1, true},
-              {"Int64", "faceoffsets", 1, true}}}},
+             [&] {
+               std::vector<vtu::ArraySpec> a = {
+                   {"Int64", "connectivity"}, {"Int64", "offsets"}, {"UInt8", "types"}};
+               if (!section) {
+                 a.push_back({"Int64", "faces", 1, true});
+                 a.push_back({"Int64", "faceoffsets", 1, true});
+               }
+               return a;
+             }()}},
            "volume");
   tbb::task_arena arena(thread_count(threads));
   arena.execute([&] {
@@ -169,8 +176,10 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
     base = 0;
     stream<std::int64_t>(f, cells, cells,
                          [&](std::size_t k, auto& o) { o.push_back(base += nv(k)); });
-    stream<std::uint8_t>(f, cells, cells,
-                         [&](std::size_t, auto& o) { o.push_back(kVtkPolyhedron); });
+    stream<std::uint8_t>(f, cells, cells, [&](std::size_t, auto& o) {
+      o.push_back(section ? kVtkPolygon : kVtkPolyhedron);
+    });
+    if (section) return;
     // Faces: per block its face count, then per face its vertex count and point ids.
     base = 0;
     stream<std::int64_t>(f, cells, stream_len, [&](std::size_t k, auto& o) {
@@ -198,23 +207,34 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
   return st;
 }
 
-VtuStats write_joints_vtu(const std::filesystem::path& out, const JointSystem& js,
-                          VtuCompressor compressor) {
-  const double tol = js.options.tolerance * js.length_scale;
-  const PolytopeInfo dom = analyse_polytope(js.domain.planes, tol);
+namespace {
+
+/// Each joint's part inside the domain: rows (joint indices) and their points.
+struct JointPieces {
+  std::vector<std::size_t> rows;
+  std::vector<std::vector<Vec3>> points;
+  std::size_t skipped = 0;
+};
+
+/// The domain's box (its vertices' bounding box); `extra` planes close a section's domain.
+PolytopeInfo joint_domain(const std::filesystem::path& out, const JointSystem& js,
+                          const std::vector<Plane>& extra, double tol) {
+  std::vector<Plane> planes = js.domain.planes;
+  planes.insert(planes.end(), extra.begin(), extra.end());
+  PolytopeInfo dom = analyse_polytope(planes, tol);
   if (!dom.bounded || !dom.has_interior)
     throw Error(out.string(), "the domain is empty or unbounded",
                 "regenerate it with slice-joints");
+  return dom;
+}
+
+/// 3-D: polygons (a persistent joint: a square of its plane around the domain's centre, larger
+/// than the domain, clipped).
+JointPieces joint_polygons(const std::filesystem::path& out, const JointSystem& js, double tol) {
+  const PolytopeInfo dom = joint_domain(out, js, {}, tol);
   const Vec3 centre = (dom.min + dom.max) / 2;
   const double half = 2 * ((dom.max - dom.min).norm() / 2 + tol);  // covers the whole domain
-
-  // Each joint's part inside the domain (a persistent joint: a square of its plane around the
-  // domain's centre, larger than the domain, clipped).
-  std::vector<std::size_t> rows;
-  std::vector<std::vector<Vec3>> polys;
-  VtuStats st;
-  std::size_t points = 0;
-  Range r_id, r_set, r_kind, r_persistent, r_friction, r_cohesion, r_points;
+  JointPieces pieces;
   for (std::size_t j = 0; j < js.joints.size(); ++j) {
     const Joint& jt = js.joints[j];
     std::vector<Vec3> poly = joint_polygon(jt);
@@ -229,22 +249,86 @@ VtuStats write_joints_vtu(const std::filesystem::path& out, const JointSystem& j
       if (poly.size() < 3) break;
     }
     if (poly.size() < 3 || newell_normal(poly).norm() / 2 <= tol * tol) {
-      ++st.skipped;
+      ++pieces.skipped;
       continue;
     }
-    points += poly.size();
-    r_id.add(double(j));
+    pieces.rows.push_back(j);
+    pieces.points.push_back(std::move(poly));
+  }
+  return pieces;
+}
+
+/// 2-D (docs/2d.md): segments of the section's lines (y = 0). A persistent joint is its line
+/// through the domain, a segment joint the part of its line between its rectangle's ends, both
+/// clipped to the domain. The domain has no faces normal to y: for analyse_polytope, which needs
+/// a bounded region, it is closed by y = +-0.5 (the section's unit thickness).
+JointPieces joint_segments(const std::filesystem::path& out, const JointSystem& js, double tol) {
+  const PolytopeInfo dom =
+      joint_domain(out, js, {{Vec3::UnitY(), 0.5}, {-Vec3::UnitY(), 0.5}}, tol);
+  const Vec3 centre = (dom.min + dom.max) / 2;
+  const double half = 2 * ((dom.max - dom.min).norm() / 2 + tol);  // covers the whole domain
+  JointPieces pieces;
+  for (std::size_t j = 0; j < js.joints.size(); ++j) {
+    const Joint& jt = js.joints[j];
+    const Vec3& n = jt.plane.normal;
+    const Vec3 t = Vec3(n.z(), 0, -n.x()).normalized();  // along the line, in (x, z)
+    Vec3 c = centre - jt.plane.distance(centre) * n;
+    c.y() = 0;
+    double lo = -half, hi = half;
+    if (!jt.persistent()) {
+      lo = std::numeric_limits<double>::infinity();
+      hi = -lo;
+      for (const Vec3& p : joint_polygon(jt)) {
+        lo = std::min(lo, t.dot(p - c));
+        hi = std::max(hi, t.dot(p - c));
+      }
+    }
+    Vec3 a = c + lo * t, b = c + hi * t;
+    bool inside = true;
+    for (const Plane& p : js.domain.planes) {  // Cyrus-Beck: the segment against each face
+      const double da = p.distance(a), db = p.distance(b);
+      if (da > 0 && db > 0) {
+        inside = false;
+        break;
+      }
+      if (da > 0) a += (b - a) * (da / (da - db));
+      if (db > 0) b += (a - b) * (db / (db - da));
+    }
+    if (!inside || (b - a).norm() <= tol) {
+      ++pieces.skipped;
+      continue;
+    }
+    pieces.rows.push_back(j);
+    pieces.points.push_back({a, b});
+  }
+  return pieces;
+}
+
+}  // namespace
+
+VtuStats write_joints_vtu(const std::filesystem::path& out, const JointSystem& js,
+                          VtuCompressor compressor) {
+  const double tol = js.options.tolerance * js.length_scale;
+  const bool section = js.dimension == 2;
+  const JointPieces pieces = section ? joint_segments(out, js, tol) : joint_polygons(out, js, tol);
+  const auto& rows = pieces.rows;
+  const auto& polys = pieces.points;
+  VtuStats st;
+  st.skipped = pieces.skipped;
+  std::size_t points = 0;
+  Range r_id, r_set, r_kind, r_persistent, r_friction, r_cohesion, r_points;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const Joint& jt = js.joints[rows[k]];
+    points += polys[k].size();
+    r_id.add(double(rows[k]));
     r_set.add(jt.set);
     r_kind.add(static_cast<int>(jt.kind));
     r_persistent.add(jt.persistent() ? 1 : 0);
     r_friction.add(jt.friction_angle_deg);
     r_cohesion.add(jt.cohesion);
-    for (const Vec3& x : poly) r_points.add(x.norm());
-    rows.push_back(j);
-    polys.push_back(std::move(poly));
+    for (const Vec3& x : polys[k]) r_points.add(x.norm());
   }
   const std::size_t cells = rows.size();
-
   PartialFile part(out);
   vtu::File f(part.path(), out.string(), compressor);
   auto pts = r_points.spec("Float64", "Points");
@@ -281,7 +365,9 @@ VtuStats write_joints_vtu(const std::filesystem::path& out, const JointSystem& j
   stream<std::int64_t>(f, cells, cells, [&](std::size_t k, auto& o) {
     o.push_back(base += std::int64_t(polys[k].size()));
   });
-  stream<std::uint8_t>(f, cells, cells, [&](std::size_t, auto& o) { o.push_back(kVtkPolygon); });
+  stream<std::uint8_t>(f, cells, cells, [&](std::size_t, auto& o) {
+    o.push_back(section ? kVtkLine : kVtkPolygon);
+  });
   f.finish();
   part.commit();
   st.cells = cells;

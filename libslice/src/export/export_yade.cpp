@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,137 @@ const char* kHeader = R"(# Rules (rockslice README, "YADE models"):
 #  - gravity along -z; STEPS > 0 runs that many steps of the settling run at the end.
 )";
 
+// The script's program after BLOCKS: bodies, clumps, engines and the run.
+void write_program(std::ostream& s, bool pb, bool section) {
+  if (!pb) {
+    s << R"(body_of_block = {}
+started = time.time()
+def progress(what):
+    print('rockslice: %s (%.0f s)' % (what, time.time() - started), flush=True)
+progress('building %d bodies' % len(BLOCKS))
+for i, (block, fixed, phi, cluster, volume, vertices) in enumerate(BLOCKS):
+    mat = PolyhedraMat(young=YOUNG, poisson=POISSON, frictionAngle=math.radians(phi),
+                       density=DENSITY, label='block-%d' % block)
+    O.materials.append(mat)
+    grey = 0.35 if fixed else 0.75
+    body = polyhedra_utils.polyhedra(mat, v=vertices, fixed=bool(fixed), color=(grey, grey, grey))
+)";
+    if (section)
+      s << R"(    if not fixed:
+        body.state.blockedDOFs = 'yXZ'  # the section's plane (x, z): no y, no turning off it
+)";
+    s << R"(    body_of_block[block] = O.bodies.append(body)
+    if (i + 1) % max(1, len(BLOCKS) // 10) == 0:
+        progress('%d of %d bodies' % (i + 1, len(BLOCKS)))
+)";
+  } else {
+    s << R"(body_of_block = {}
+started = time.time()
+def progress(what):
+    print('rockslice: %s (%.0f s)' % (what, time.time() - started), flush=True)
+progress('building %d bodies' % len(BLOCKS))
+for i, (block, fixed, phi, cluster, volume, inradius, radius, centroid, planes) in enumerate(BLOCKS):
+    mat = FrictMat(young=-1, poisson=-1, frictionAngle=math.radians(phi), density=DENSITY,
+                   label='block-%d' % block)
+    O.materials.append(mat)
+    r = PB_ROUNDING * inradius
+    grey = 0.35 if fixed else 0.75
+    body = potential_utils.potentialblock(
+        mat, a=[p[0] for p in planes], b=[p[1] for p in planes], c=[p[2] for p in planes],
+        d=[p[3] - r for p in planes], r=r, R=radius, isBoundary=bool(fixed), fixed=bool(fixed),
+        color=[grey, grey, grey])
+    body.state.pos = Vector3(centroid) + body.shape.position
+    body_of_block[block] = O.bodies.append(body)
+    if (i + 1) % max(1, len(BLOCKS) // 10) == 0:
+        progress('%d of %d bodies' % (i + 1, len(BLOCKS)))
+)";
+  }
+  s << R"(
+# Clusters become clumps; a clump with a fixed (boundary) member is fixed as a whole.
+members_of_cluster = {}
+fixed_cluster = set()
+for row in BLOCKS:
+    block, fixed, cluster = row[0], row[1], row[3]
+    if cluster >= 0:
+        members_of_cluster.setdefault(cluster, []).append(body_of_block[block])
+        if fixed:
+            fixed_cluster.add(cluster)
+clump_of_cluster = {}
+for cluster in sorted(members_of_cluster):
+    members = members_of_cluster[cluster]
+    if len(members) < 2:
+        continue
+    clump = O.bodies.clump(members)
+    if cluster in fixed_cluster:
+        O.bodies[clump].state.blockedDOFs = 'xyzXYZ'
+)";
+  if (section)
+    s << R"(    else:
+        O.bodies[clump].state.blockedDOFs = 'yXZ'
+)";
+  s << R"(    clump_of_cluster[cluster] = clump
+progress('%d clumps' % len(clump_of_cluster))
+
+# The volume of each rigid body: a clump moves as one, so its thin members (pieces cut off by a
+# construction joint exempt from the size limit) do not set the time step; its whole volume does.
+volume_of_body = {}
+for row in BLOCKS:
+    body = ('clump', row[3]) if row[3] in clump_of_cluster else ('block', row[0])
+    volume_of_body[body] = volume_of_body.get(body, 0.0) + row[4]
+smallest = min(list(volume_of_body.values()) + [1.0])
+
+)";
+  if (!pb) {
+    s << R"(# The smallest body sets the verlet distance and the time step: for the volumetric law a
+# contact as large as a face, A ~ V^(2/3), has stiffness k = YOUNG A against m = DENSITY V,
+# dt = sqrt(m / k). (polyhedra_utils.PWaveTimeStep() looks at spheres only and returns 1 s.)
+# YADE's Polyhedra contact test warns "Unhandled switch case:0" for every new pair of blocks
+# (its separating-plane cache starts empty); blocks that touch face to face make many.
+log.setLevel('Polyhedra_support.cpp', log.ERROR)
+O.engines = [
+    ForceResetter(),
+    InsertionSortCollider([Bo1_Polyhedra_Aabb()], verletDist=0.01 * smallest ** (1.0 / 3)),
+    InteractionLoop(
+        [Ig2_Polyhedra_Polyhedra_PolyhedraGeom()],
+        [Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys()],
+        [Law2_PolyhedraGeom_PolyhedraPhys_Volumetric()],
+    ),
+    NewtonIntegrator(damping=DAMPING, gravity=(0, 0, -GRAVITY), label='newton'),
+]
+O.dt = TIMESTEP_FACTOR * math.sqrt(DENSITY * smallest ** (1.0 / 3) / YOUNG)
+)";
+  } else {
+    s << R"(O.engines = [
+    ForceResetter(),
+    InsertionSortCollider([PotentialBlock2AABB()],
+                          verletDist=0.01 * smallest ** (1.0 / 3)),
+    InteractionLoop(
+        [Ig2_PB_PB_ScGeom(twoDimension=False, calContactArea=True)],
+        [Ip2_FrictMat_FrictMat_KnKsPBPhys(kn_i=YOUNG, ks_i=POISSON * YOUNG, Knormal=YOUNG,
+                                          Kshear=POISSON * YOUNG, useFaceProperties=False,
+                                          viscousDamping=DAMPING)],
+        [Law2_SCG_KnKsPBPhys_KnKsPBLaw(label='law', neverErase=False)],
+    ),
+    NewtonIntegrator(damping=DAMPING, exactAsphericalRot=True, gravity=(0, 0, -GRAVITY),
+                     label='newton'),
+]
+# Critical time step of the lightest block on its contact stiffness: m = DENSITY V against
+# k = YOUNG V^(2/3) (a contact as large as a face), dt = sqrt(m / k).
+O.dt = TIMESTEP_FACTOR * math.sqrt(DENSITY * smallest ** (1.0 / 3) / YOUNG)
+)";
+  }
+  s << R"py(
+if STEPS > 0:
+    # Step progress: 20 lines over the run.
+    O.engines = O.engines + [PyRunner(iterPeriod=max(1, STEPS // 20), command=(
+        "print('rockslice: step %d of " + str(STEPS) + " (%.0f s)' % (O.iter + 1, time.time() - "
+        + repr(time.time()) + "), flush=True)"))]
+    progress('running %d steps, dt = %.3g s' % (STEPS, O.dt))
+    O.run(STEPS, True)
+    progress('done')
+)py";
+}
+
 }  // namespace
 
 void YadeOptions::validate() const {
@@ -108,6 +240,13 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
                 "run slice-vertices on the blocks file first");
   const Geometry& g = *bs.geometry;
   const bool pb = opt.shape == YadeShape::potential_blocks;
+  // A section (docs/2d.md): each polygon is a prism of unit thickness, y in [-0.5, 0.5], that
+  // moves in (x, z) only: blockedDOFs 'yXZ' (YADE's State.blockedDOFs: lower case blocks a
+  // translation, upper case a rotation) on every body that is not fixed.
+  const bool section = bs.joints.dimension == 2;
+  if (section && pb)
+    throw Error(out.string(), "is a 2-D section (dimension 2): PotentialBlock models are 3-D only",
+                "export it with --format yade (Polyhedra prisms) or --format vtu");
 
   std::vector<BodyData> bodies;
   YadeStats st;
@@ -142,6 +281,10 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
       << "# Run headless: yade -n -x model.py     With the GUI: yade model.py\n"
       << "# Frame x East, y North, z Up; lengths in the scene's unit (m), mass in kg, time in s.\n"
       << kHeader;
+    if (section)
+      s << "# A 2-D section in (x, z): each block is a prism of unit thickness (y from -0.5 to "
+           "0.5)\n"
+        << "# that moves in the section only (blockedDOFs 'yXZ').\n";
     if (pb)
       s << "# PotentialBlock bodies need a YADE built with ENABLE_POTENTIAL_BLOCKS=ON (Debian's\n"
         << "# yade has none): planes a x + b y + c z = d about the block's centroid, rounded by\n"
@@ -178,8 +321,10 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
       for (const BodyData& d : bodies) {
         s << "(" << d.block << ", " << (d.fixed ? 1 : 0) << ", " << num(d.friction) << ", "
           << d.cluster << ", " << num(d.volume) << ", (";
-        for (auto v = g.vertex_offset[d.block]; v < g.vertex_offset[d.block + 1]; ++v)
-          s << vec(g.vertices[std::size_t(v)]) << ", ";
+        // A section's polygon (y = 0) becomes its prism: the polygon at y = -0.5, then at 0.5.
+        for (const double y : section ? std::vector<double>{-0.5, 0.5} : std::vector<double>{0})
+          for (auto v = g.vertex_offset[d.block]; v < g.vertex_offset[d.block + 1]; ++v)
+            s << vec(g.vertices[std::size_t(v)] + Vec3(0, y, 0)) << ", ";
         s << ")),\n";
       }
       s << "]\n\n";
@@ -208,124 +353,7 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
       s << "]\n\n";
     }
 
-    // Bodies, clumps, engines.
-    if (!pb) {
-      s << R"(body_of_block = {}
-started = time.time()
-def progress(what):
-    print('rockslice: %s (%.0f s)' % (what, time.time() - started), flush=True)
-progress('building %d bodies' % len(BLOCKS))
-for i, (block, fixed, phi, cluster, volume, vertices) in enumerate(BLOCKS):
-    mat = PolyhedraMat(young=YOUNG, poisson=POISSON, frictionAngle=math.radians(phi),
-                       density=DENSITY, label='block-%d' % block)
-    O.materials.append(mat)
-    grey = 0.35 if fixed else 0.75
-    body = polyhedra_utils.polyhedra(mat, v=vertices, fixed=bool(fixed), color=(grey, grey, grey))
-    body_of_block[block] = O.bodies.append(body)
-    if (i + 1) % max(1, len(BLOCKS) // 10) == 0:
-        progress('%d of %d bodies' % (i + 1, len(BLOCKS)))
-)";
-    } else {
-      s << R"(body_of_block = {}
-started = time.time()
-def progress(what):
-    print('rockslice: %s (%.0f s)' % (what, time.time() - started), flush=True)
-progress('building %d bodies' % len(BLOCKS))
-for i, (block, fixed, phi, cluster, volume, inradius, radius, centroid, planes) in enumerate(BLOCKS):
-    mat = FrictMat(young=-1, poisson=-1, frictionAngle=math.radians(phi), density=DENSITY,
-                   label='block-%d' % block)
-    O.materials.append(mat)
-    r = PB_ROUNDING * inradius
-    grey = 0.35 if fixed else 0.75
-    body = potential_utils.potentialblock(
-        mat, a=[p[0] for p in planes], b=[p[1] for p in planes], c=[p[2] for p in planes],
-        d=[p[3] - r for p in planes], r=r, R=radius, isBoundary=bool(fixed), fixed=bool(fixed),
-        color=[grey, grey, grey])
-    body.state.pos = Vector3(centroid) + body.shape.position
-    body_of_block[block] = O.bodies.append(body)
-    if (i + 1) % max(1, len(BLOCKS) // 10) == 0:
-        progress('%d of %d bodies' % (i + 1, len(BLOCKS)))
-)";
-    }
-    s << R"(
-# Clusters become clumps; a clump with a fixed (boundary) member is fixed as a whole.
-members_of_cluster = {}
-fixed_cluster = set()
-for row in BLOCKS:
-    block, fixed, cluster = row[0], row[1], row[3]
-    if cluster >= 0:
-        members_of_cluster.setdefault(cluster, []).append(body_of_block[block])
-        if fixed:
-            fixed_cluster.add(cluster)
-clump_of_cluster = {}
-for cluster in sorted(members_of_cluster):
-    members = members_of_cluster[cluster]
-    if len(members) < 2:
-        continue
-    clump = O.bodies.clump(members)
-    if cluster in fixed_cluster:
-        O.bodies[clump].state.blockedDOFs = 'xyzXYZ'
-    clump_of_cluster[cluster] = clump
-progress('%d clumps' % len(clump_of_cluster))
-
-# The volume of each rigid body: a clump moves as one, so its thin members (pieces cut off by a
-# construction joint exempt from the size limit) do not set the time step; its whole volume does.
-volume_of_body = {}
-for row in BLOCKS:
-    body = ('clump', row[3]) if row[3] in clump_of_cluster else ('block', row[0])
-    volume_of_body[body] = volume_of_body.get(body, 0.0) + row[4]
-smallest = min(list(volume_of_body.values()) + [1.0])
-
-)";
-    if (!pb) {
-      s << R"(# The smallest body sets the verlet distance and the time step: for the volumetric law a
-# contact as large as a face, A ~ V^(2/3), has stiffness k = YOUNG A against m = DENSITY V,
-# dt = sqrt(m / k). (polyhedra_utils.PWaveTimeStep() looks at spheres only and returns 1 s.)
-# YADE's Polyhedra contact test warns "Unhandled switch case:0" for every new pair of blocks
-# (its separating-plane cache starts empty); blocks that touch face to face make many.
-log.setLevel('Polyhedra_support.cpp', log.ERROR)
-O.engines = [
-    ForceResetter(),
-    InsertionSortCollider([Bo1_Polyhedra_Aabb()], verletDist=0.01 * smallest ** (1.0 / 3)),
-    InteractionLoop(
-        [Ig2_Polyhedra_Polyhedra_PolyhedraGeom()],
-        [Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys()],
-        [Law2_PolyhedraGeom_PolyhedraPhys_Volumetric()],
-    ),
-    NewtonIntegrator(damping=DAMPING, gravity=(0, 0, -GRAVITY), label='newton'),
-]
-O.dt = TIMESTEP_FACTOR * math.sqrt(DENSITY * smallest ** (1.0 / 3) / YOUNG)
-)";
-    } else {
-      s << R"(O.engines = [
-    ForceResetter(),
-    InsertionSortCollider([PotentialBlock2AABB()],
-                          verletDist=0.01 * smallest ** (1.0 / 3)),
-    InteractionLoop(
-        [Ig2_PB_PB_ScGeom(twoDimension=False, calContactArea=True)],
-        [Ip2_FrictMat_FrictMat_KnKsPBPhys(kn_i=YOUNG, ks_i=POISSON * YOUNG, Knormal=YOUNG,
-                                          Kshear=POISSON * YOUNG, useFaceProperties=False,
-                                          viscousDamping=DAMPING)],
-        [Law2_SCG_KnKsPBPhys_KnKsPBLaw(label='law', neverErase=False)],
-    ),
-    NewtonIntegrator(damping=DAMPING, exactAsphericalRot=True, gravity=(0, 0, -GRAVITY),
-                     label='newton'),
-]
-# Critical time step of the lightest block on its contact stiffness: m = DENSITY V against
-# k = YOUNG V^(2/3) (a contact as large as a face), dt = sqrt(m / k).
-O.dt = TIMESTEP_FACTOR * math.sqrt(DENSITY * smallest ** (1.0 / 3) / YOUNG)
-)";
-    }
-    s << R"py(
-if STEPS > 0:
-    # Step progress: 20 lines over the run.
-    O.engines = O.engines + [PyRunner(iterPeriod=max(1, STEPS // 20), command=(
-        "print('rockslice: step %d of " + str(STEPS) + " (%.0f s)' % (O.iter + 1, time.time() - "
-        + repr(time.time()) + "), flush=True)"))]
-    progress('running %d steps, dt = %.3g s' % (STEPS, O.dt))
-    O.run(STEPS, True)
-    progress('done')
-)py";
+    write_program(s, pb, section);
     s.flush();
     if (!s)
       throw Error(out.string(), "cannot write " + part.path().filename().string(),

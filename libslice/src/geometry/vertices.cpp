@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <string>
 
 #include "../threads.hpp"
@@ -142,6 +143,230 @@ Vec3 hull_centre(const Block& b, const Tolerances& tol, std::size_t id) {
   return c.centre;
 }
 
+// ---- 2-D: a block of a section in (x, z) (docs/2d.md) is a convex polygon, one face per edge.
+
+using Point2 = Kernel::Point_2;
+
+/// The section's coordinates of a vector: (x, z), so that counter-clockwise in CGAL's plane is
+/// counter-clockwise in the section drawn with x to the right and z up.
+Point2 section_point(const Vec3& v) { return {v.x(), v.z()}; }
+
+/// A face normal of a section has y = 0 (sind/cosd make it exactly 0; see Numerics in
+/// STYLE.md); this much is allowed for normals written by other tools.
+constexpr double kSectionNormalY = 1e-12;
+
+/// The convex hull of `pts` as indices, counter-clockwise, without points on its edges
+/// (Andrew's monotone chain with CGAL's exact orientation predicate, so (nearly) collinear
+/// points cannot make an inconsistent hull). Fewer than 3 if the points span no area.
+std::vector<std::size_t> convex_hull_2(const std::vector<Point2>& pts) {
+  std::vector<std::size_t> order(pts.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  // Ties by index: duplicates keep a fixed order, so the hull is the same on every run.
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (pts[a].x() != pts[b].x()) return pts[a].x() < pts[b].x();
+    if (pts[a].y() != pts[b].y()) return pts[a].y() < pts[b].y();
+    return a < b;
+  });
+  std::vector<std::size_t> hull;
+  if (order.size() < 3) return hull;
+  const auto chain = [&](auto first, auto last) {
+    const std::size_t base = hull.size();
+    for (auto it = first; it != last; ++it) {
+      while (hull.size() >= base + 2 &&
+             CGAL::orientation(pts[hull[hull.size() - 2]], pts[hull.back()], pts[*it]) !=
+                 CGAL::LEFT_TURN)
+        hull.pop_back();
+      hull.push_back(*it);
+    }
+    hull.pop_back();  // the last point starts the other chain
+  };
+  chain(order.begin(), order.end());    // lower chain, left to right
+  chain(order.rbegin(), order.rend());  // upper chain, right to left
+  return hull;
+}
+
+/// An interior point of a section's block, block frame (y = 0): the origin when well inside,
+/// else the Chebyshev centre. The faces bound no solid in 3-D, so the LP gets two faces
+/// y = +-L more: its radius is then min(polygon's inradius, L) and its (x, z) centre at least
+/// that far inside every edge, which is all the dual hull needs. The LP is 3-D (the y faces
+/// make it one), whatever tol.dimension says.
+Vec3 hull_centre_2d(const Block& b, const Tolerances& tol, std::size_t id) {
+  double min_d = b.faces.front().d;
+  for (const Face& f : b.faces) min_d = std::min(min_d, f.d);
+  if (min_d > tol.geometry && min_d >= 0.5 * b.inradius) return Vec3::Zero();
+  std::vector<Face> faces = b.faces;
+  faces.push_back({Vec3::UnitY(), tol.length_scale, -1});
+  faces.push_back({-Vec3::UnitY(), tol.length_scale, -1});
+  Tolerances tol3 = tol;
+  tol3.dimension = 3;
+  const auto solver = make_solver(LpBackend::native);
+  const ChebyshevBall c = chebyshev_ball(*solver, faces, tol3);
+  if (c.status != LpStatus::optimal || c.radius <= tol.geometry)
+    throw Error(block_name(id),
+                "its edges leave no interior (Chebyshev LP: " + to_string(c.status) + ", radius " +
+                    num(c.radius) + ")",
+                "regenerate the blocks with slice-cut");
+  return {c.centre.x(), 0, c.centre.z()};
+}
+
+/// The vertex where the lines n . x = d of two faces meet, relative to `centre` (y = 0).
+Vec3 meet_2d(const Face& a, const Face& b, const Vec3& centre) {
+  const double da = a.d - a.normal.dot(centre), db = b.d - b.normal.dot(centre);
+  const double det = a.normal.x() * b.normal.z() - a.normal.z() * b.normal.x();
+  return {(da * b.normal.z() - db * a.normal.z()) / det, 0,
+          (a.normal.x() * db - b.normal.x() * da) / det};
+}
+
+/// Area, centroid and second moments of a counter-clockwise polygon in (x, z) (y = 0), by
+/// triangles from the origin of `v` (the block's interior point: small coordinates).
+/// Inertia as docs/2d.md stores it: xx = integral z^2 dA, zz = integral x^2 dA, yy = xx + zz
+/// (the polar moment), zx = -integral x z dA, xy = yz = 0, about the centroid. The product's
+/// minus sign is the 3-D convention (mass_properties: I = integral (|r|^2 Id - r r^T), so
+/// zx = -integral z x dV; a unit-thickness prism of the polygon has the same zx). Unlike the
+/// prism's, xx and zz leave out its integral of y^2 (1/12 per unit area): they are the
+/// section's moments.
+MassProperties polygon_mass_properties(const std::vector<Vec3>& v) {
+  double a2 = 0, sx = 0, sz = 0, sxx = 0, szz = 0, sxz = 0;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const double x0 = v[k].x(), z0 = v[k].z();
+    const double x1 = v[(k + 1) % v.size()].x(), z1 = v[(k + 1) % v.size()].z();
+    const double c = x0 * z1 - x1 * z0;  // twice the signed area of (origin, k, k + 1)
+    a2 += c;
+    sx += (x0 + x1) * c;
+    sz += (z0 + z1) * c;
+    sxx += (x0 * x0 + x0 * x1 + x1 * x1) * c;
+    szz += (z0 * z0 + z0 * z1 + z1 * z1) * c;
+    sxz += (x0 * z1 + 2 * x0 * z0 + 2 * x1 * z1 + x1 * z0) * c;
+  }
+  MassProperties mp;
+  mp.volume = a2 / 2;
+  if (!(mp.volume > 0)) return mp;
+  const double cx = sx / (3 * a2), cz = sz / (3 * a2);
+  const double ixx = szz / 12 - mp.volume * cz * cz;  // integral of z^2 about the centroid
+  const double izz = sxx / 12 - mp.volume * cx * cx;  // integral of x^2 about the centroid
+  const double ixz = sxz / 24 - mp.volume * cx * cz;
+  mp.centroid = {cx, 0, cz};
+  mp.inertia = {ixx, ixx + izz, izz, 0, 0, -ixz};
+  return mp;
+}
+
+/// The part of the edge a -> b (block frame) that lies between the ends of joint j's segment:
+/// its rectangle (docs/2d.md: the segment times y in [-0.5, 0.5]) projected onto the edge.
+double segment_fraction(const Joint& j, const Vec3& a, const Vec3& b, const Vec3& origin) {
+  const double len = (b - a).norm();
+  const Vec3 t = (b - a) / len;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Vec3& p : joint_polygon(j)) {
+    const double s = t.dot(p - origin - a);
+    lo = std::min(lo, s);
+    hi = std::max(hi, s);
+  }
+  return std::clamp((std::min(hi, len) - std::max(lo, 0.0)) / len, 0.0, 1.0);
+}
+
+/// The polygon's vertices: the dual hull's edges (hull[k], hull[k + 1]), relative to `centre`,
+/// each checked inside every face.
+std::vector<Vec3> polygon_vertices(const Block& b, const std::vector<std::size_t>& hull,
+                                   const Vec3& centre, const Tolerances& tol, std::size_t id) {
+  const std::size_t nv = hull.size();
+  std::vector<Vec3> local(nv);
+  for (std::size_t k = 0; k < nv; ++k) {
+    local[k] = meet_2d(b.faces[hull[k]], b.faces[hull[(k + 1) % nv]], centre);
+    if (!local[k].allFinite())
+      throw Error(block_name(id), "its faces do not bound it (a vertex at infinity)",
+                  "regenerate the blocks with slice-cut");
+  }
+  for (std::size_t v = 0; v < nv; ++v)
+    for (std::size_t f = 0; f < b.faces.size(); ++f) {
+      const Face& fc = b.faces[f];
+      const double out = fc.normal.dot(local[v]) - (fc.d - fc.normal.dot(centre));
+      if (out > tol.geometry)
+        throw Error(block_name(id),
+                    "vertex " + std::to_string(v) + " lies " + num(out) + " outside " +
+                        face_name(b, f) + " (tolerance " + num(tol.geometry) + ")",
+                    "the block is too ill-conditioned for its tolerance; please report it");
+    }
+  return local;
+}
+
+/// block_geometry of a block of a section (docs/2d.md): by the dual hull as in 3-D, in the
+/// plane. The faces n_i . (x - c) <= d_i about an interior point c are dual to the points
+/// n_i / d_i in (x, z); their convex hull, counter-clockwise, lists the faces in the order of
+/// the polygon's edges (the polar map keeps the angular order of the normals), and each hull
+/// edge (i, j) is the vertex where faces i and j meet. A face whose dual point is not a hull
+/// vertex (inside or on a hull edge, by the exact predicate) touches the block in a point at
+/// most: it has no edge.
+BlockGeometry block_geometry_2d(const Block& b, const JointSystem& js, const Tolerances& tol,
+                                std::size_t id) {
+  const std::size_t nf = b.faces.size();
+  if (nf < 3)
+    throw Error(block_name(id),
+                "has " + std::to_string(nf) + " faces; a bounded polygon has 3 or more",
+                "regenerate the blocks with slice-cut");
+  for (std::size_t f = 0; f < nf; ++f)
+    if (std::abs(b.faces[f].normal.y()) > kSectionNormalY)
+      throw Error(block_name(id),
+                  face_name(b, f) + " has a normal with y component " + num(b.faces[f].normal.y()) +
+                      "; faces of a 2-D section have y = 0",
+                  "regenerate the blocks with slice-cut from a dimension = 2 scene");
+  const Vec3 centre = hull_centre_2d(b, tol, id);
+
+  std::vector<Point2> dual;
+  dual.reserve(nf);
+  for (const Face& f : b.faces)
+    dual.push_back(section_point(f.normal / (f.d - f.normal.dot(centre))));
+  const std::vector<std::size_t> hull = convex_hull_2(dual);
+  if (hull.size() < 3)
+    throw Error(block_name(id), "its faces do not bound a polygon (the dual hull is flat)",
+                "regenerate the blocks with slice-cut");
+  // Bounded iff the centre (the dual origin) is strictly inside the hull.
+  const Point2 origin(CGAL::ORIGIN);
+  for (std::size_t k = 0; k < hull.size(); ++k)
+    if (CGAL::orientation(dual[hull[k]], dual[hull[(k + 1) % hull.size()]], origin) !=
+        CGAL::LEFT_TURN)
+      throw Error(block_name(id), "its faces do not bound it (the block is unbounded)",
+                  "regenerate the blocks with slice-cut");
+
+  // Vertex k is where hull faces k and k + 1 meet: edge hull[k] runs from vertex k - 1 to k.
+  const std::vector<Vec3> local = polygon_vertices(b, hull, centre, tol, id);
+  const std::size_t nv = local.size();
+  BlockGeometry g;
+  g.loops.resize(nf);
+  g.face_area.assign(nf, 0);
+  g.face_joint_fraction.assign(nf, 1.0);
+  for (std::size_t k = 0; k < nv; ++k) {
+    const std::size_t f = hull[k], start = (k + nv - 1) % nv;
+    g.loops[f] = {std::int64_t(start), std::int64_t(k)};
+    g.face_area[f] = (local[k] - local[start]).norm();
+  }
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (g.loops[f].empty())
+      throw Error(block_name(id),
+                  face_name(b, f) + " does not touch the block along an edge (it is redundant)",
+                  kSlicerFix);
+    // Vertices closer than the tolerance would be one vertex (as in 3-D): the edge has no length.
+    if (g.face_area[f] <= tol.geometry)
+      throw Error(block_name(id),
+                  face_name(b, f) + " has no length: " + num(g.face_area[f]) +
+                      " (below tolerance " + num(tol.geometry) + ")",
+                  kSlicerFix);
+    const std::int64_t j = b.faces[f].joint;
+    if (j >= 0 && std::size_t(j) < js.joints.size() && !js.joints[std::size_t(j)].persistent())
+      g.face_joint_fraction[f] =
+          segment_fraction(js.joints[std::size_t(j)], local[std::size_t(g.loops[f][0])],
+                           local[std::size_t(g.loops[f][1])], b.origin + centre);
+  }
+
+  const MassProperties mp = polygon_mass_properties(local);
+  SLICE_ASSERT(mp.volume > 0);  // a counter-clockwise polygon about an interior point
+  g.volume = mp.volume;
+  g.centroid = b.origin + centre + mp.centroid;
+  g.inertia = mp.inertia;
+  g.vertices.reserve(nv);
+  for (const Vec3& x : local) g.vertices.push_back(b.origin + centre + x);
+  return g;
+}
+
 }  // namespace
 
 Vec3 newell_normal(const std::vector<Vec3>& polygon) {
@@ -201,6 +426,7 @@ MassProperties mass_properties(const std::vector<Vec3>& vertices,
 
 BlockGeometry block_geometry(const Block& b, const JointSystem& js, const Tolerances& tol,
                              std::size_t id) {
+  if (js.dimension == 2) return block_geometry_2d(b, js, tol, id);
   const std::size_t nf = b.faces.size();
   if (nf < 4)
     throw Error(block_name(id),
@@ -375,8 +601,8 @@ GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress, int th
     throw Error("/blocks attribute pruned",
                 "is 0: the blocks may still carry faces that no longer touch them (no polygon)",
                 "prune them first: slice-prune, slice-cut --prune or slice-vertices --prune");
-  const Tolerances tol =
-      Tolerances::from_scale(bs.joints.length_scale, bs.joints.options.tolerance);
+  const Tolerances tol = Tolerances::from_scale(bs.joints.length_scale, bs.joints.options.tolerance,
+                                                bs.joints.dimension);
   Geometry geo;
   const std::size_t n = bs.blocks.size();
   geo.volume.reserve(n);
