@@ -59,11 +59,23 @@ Render(view)
 bounds = blocks.GetDataInformation().GetBounds()
 centre = [(bounds[0] + bounds[1]) / 2, (bounds[2] + bounds[3]) / 2, (bounds[4] + bounds[5]) / 2]
 size = max(bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4])
-centre[2] -= 0.08 * size  # the base in the picture too
-view.CameraFocalPoint = centre
-view.CameraPosition = [centre[0] + 1.35 * size, centre[1] - 1.7 * size, centre[2] + 1.1 * size]
-view.CameraViewUp = [0, 0, 1]
-view.CameraViewAngle = 30
+if bounds[2] == bounds[3]:  # a 2-D section in (x, z) (docs/2d.md): seen square on, from -y
+    bar.Title = 'block area [m2]'
+    view.CameraFocalPoint = centre
+    view.CameraPosition = [centre[0], centre[1] - 3 * size, centre[2]]
+    view.CameraViewUp = [0, 0, 1]
+    view.CameraViewAngle = 30
+    view.CameraParallelProjection = 1
+    Render(view)
+    view.ResetCamera()
+    view.CameraParallelScale = 0.36 * size
+else:
+    centre[2] -= 0.08 * size  # the base in the picture too
+    view.CameraFocalPoint = centre
+    view.CameraPosition = [centre[0] + 1.35 * size, centre[1] - 1.7 * size,
+                           centre[2] + 1.1 * size]
+    view.CameraViewUp = [0, 0, 1]
+    view.CameraViewAngle = 30
 Render(view)
 SaveScreenshot(picture, view, ImageResolution=[1000, 620], CompressionLevel='9')
 print('render.py: %s -> %s' % (blocks_file, picture))

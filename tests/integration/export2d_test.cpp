@@ -20,21 +20,16 @@
 #include "slice/vertices.hpp"
 #include "support/section.hpp"
 #include "support/support.hpp"
+#include "support/vtu_read.hpp"
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
 using slice::Vec3;
+using test::read_vtu;
+using test::run_yade;
 
 namespace {
-
-vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const std::string& file) {
-  vtkNew<vtkXMLUnstructuredGridReader> r;
-  r->SetFileName(file.c_str());
-  r->Update();
-  REQUIRE(r->GetErrorCode() == 0);
-  return r->GetOutput();
-}
 
 // A 20 m x 10 m section cut by `lines` random lines, with geometry.
 test::Section random_section(std::uint64_t seed, int lines) {
@@ -46,12 +41,6 @@ test::Section random_section(std::uint64_t seed, int lines) {
   auto sec = test::cut_section(test::section_system(Vec3(0, 0, 0), Vec3(20, 0, 10), joints), 0.05);
   slice::compute_geometry(sec.bs);
   return sec;
-}
-
-int run_yade(const std::string& script, const std::string& args, const test::fs::path& log) {
-  REQUIRE(test::run_shell("command -v yade >/dev/null 2>&1") == 0);  // pipelines/setup installs it
-  return test::run_shell("yade -n -x " + test::shell_quote(script) + " " + args + " </dev/null >" +
-                         test::shell_quote(log.string()) + " 2>&1");
 }
 
 }  // namespace

@@ -15,22 +15,16 @@
 #include "slice/vertices.hpp"
 #include "support/pipeline.hpp"
 #include "support/support.hpp"
+#include "support/vtu_read.hpp"
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
 using slice::Vec3;
+using test::read_vtu;
 using test::run_tool;
 
 namespace {
-
-vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const std::string& file) {
-  vtkNew<vtkXMLUnstructuredGridReader> r;
-  r->SetFileName(file.c_str());
-  r->Update();
-  REQUIRE(r->GetErrorCode() == 0);
-  return r->GetOutput();
-}
 
 /// A cell's volume from its faces as VTK gives them (divergence theorem over a fan of each
 /// face). VTK 9.1's own tetrahedralisation of polyhedra (vtkCellSizeFilter) drops tetrahedra of

@@ -21,17 +21,9 @@ using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
 using slice::Vec3;
 using test::run_tool;
+using test::run_yade;
 
-namespace {
-
-/// Runs `yade -n -x script args...` with its output in `log`; returns the exit code.
-int run_yade(const std::string& script, const std::string& args, const test::fs::path& log) {
-  REQUIRE(test::run_shell("command -v yade >/dev/null 2>&1") == 0);  // pipelines/setup installs it
-  return test::run_shell("yade -n -x " + test::shell_quote(script) + " " + args + " </dev/null >" +
-                         test::shell_quote(log.string()) + " 2>&1");
-}
-
-}  // namespace
+namespace {}  // namespace
 
 TEST_CASE("yade is installed (the YADE tests need it: pipelines/setup installs it)",
           "[tools][export][yade]") {

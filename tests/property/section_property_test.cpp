@@ -13,6 +13,7 @@
 #include "slice/cut.hpp"
 #include "slice/h5io.hpp"
 #include "slice/scene.hpp"
+#include "slice/vertices.hpp"
 #include "support/support.hpp"
 
 namespace {
@@ -93,6 +94,7 @@ slice::BlockSystem cut_and_prune(const std::string& text) {
   opt.threads = 1;
   slice::BlockSystem bs = slice::cut_blocks(js, opt).blocks;
   slice::prune_blocks(bs, opt.backend, {}, false, 1);
+  slice::compute_geometry(bs, {}, 1);
   return bs;
 }
 
@@ -131,8 +133,17 @@ TEST_CASE("a section gives the blocks of its prism block by block", "[property][
       ends.insert(ends.begin(), {-1, -1});
       CHECK(joints_of(b) == ends);
       for (const slice::Face& f : a.faces) CHECK(f.normal.y() == 0);
+      // Areas are the prisms' volumes over their height; centroids the same in (x, z).
+      const slice::Geometry& ga = *two.geometry;
+      const slice::Geometry& gb = *three.geometry;
+      CHECK(std::abs(ga.volume[i] - gb.volume[i] / kHeight) <= 1e-9 * ga.volume[i]);
+      CHECK(std::abs(ga.centroid[i].x() - gb.centroid[i].x()) <= 1e-9 * L);
+      CHECK(std::abs(ga.centroid[i].z() - gb.centroid[i].z()) <= 1e-9 * L);
     }
     blocks += static_cast<long>(two.blocks.size());
+    double area = 0;
+    for (const double a : two.geometry->volume) area += a;
+    CHECK(std::abs(area - 60) <= 1e-9 * 60);  // the 10 x 6 section, tiled
   }
   INFO(blocks << " blocks in " << n << " sections");
   CHECK(blocks > 30 * n);

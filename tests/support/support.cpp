@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -123,6 +124,12 @@ bool in_polygon(const std::vector<slice::Vec2>& p, const slice::Vec2& x) {
         x.x() < (p[j].x() - p[i].x()) * (x.y() - p[i].y()) / (p[j].y() - p[i].y()) + p[i].x())
       in = !in;
   return in;
+}
+
+int run_yade(const std::string& script, const std::string& args, const fs::path& log) {
+  REQUIRE(run_shell("command -v yade >/dev/null 2>&1") == 0);  // pipelines/setup installs it
+  return run_shell("yade -n -x " + shell_quote(script) + " " + args + " </dev/null >" +
+                   shell_quote(log.string()) + " 2>&1");
 }
 
 }  // namespace test

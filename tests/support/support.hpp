@@ -58,6 +58,9 @@ inline std::string shell_quote(const fs::path& p) { return shell_quote(p.string(
 
 /// Runs any command line through /bin/sh; returns its exit code.
 int run_shell(const std::string& command);
+/// Runs `yade -n -x script args...` with its output in `log`; returns the exit code. Requires
+/// yade on PATH (pipelines/setup installs it): a test fails, never skips, without it.
+int run_yade(const std::string& script, const std::string& args, const fs::path& log);
 
 /// The share of the property tests' random cases to run: $SLICE_PROPERTY_SCALE, a number in
 /// (0, 1]; 1 (every case) when unset. The sanitizer run (.ci/sanitize) sets a fraction, so the

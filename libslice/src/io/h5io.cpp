@@ -314,9 +314,12 @@ void check_geometry(const Checker& c, const BlockSystem& bs) {
     for (std::size_t f = 0; f < bs.blocks[b].faces.size(); ++f, ++face) {
       const auto lo = static_cast<std::size_t>(g.face_vertex_offset[face]);
       const auto hi = static_cast<std::size_t>(g.face_vertex_offset[face + 1]);
-      if (hi - lo < 3)
+      // A 2-D block's face is an edge: its two ends (docs/2d.md).
+      const bool section = bs.joints.dimension == 2;
+      if (section ? hi - lo != 2 : hi - lo < 3)
         c.fail(at("/geometry/face_vertex_offset", face) + " gives face " + str(face) + " " +
-               str(hi - lo) + " vertices; a face has at least 3");
+               str(hi - lo) + " vertices; a face has " +
+               (section ? "2 in a 2-D file (an edge)" : "at least 3"));
       for (std::size_t k = lo; k < hi; ++k)
         if (g.face_vertices[k] < 0 || g.face_vertices[k] >= nv)
           c.fail(at("/geometry/face_vertices", k) + " is " + str(g.face_vertices[k]) +
