@@ -123,4 +123,16 @@ TEST_CASE("Fig. 24 (a slope section built the Vajont way) through the tools", "[
     }
   }
   CHECK(boundary == 2);
+  // pipelines/plot: the stereonet and the areas' distribution (pipelines/setup installs h5py
+  // and matplotlib: without them this fails, not skips).
+  const std::string plot = (test::data_path("..") / "pipelines" / "plot").string();
+  REQUIRE(test::run_shell("/usr/bin/python3 " + test::shell_quote(plot) + " " +
+                          test::shell_quote(tmp / "geom.h5") + " -o " +
+                          test::shell_quote(tmp / "png") + " 2>/dev/null") == 0);
+  for (const char* png : {"geom-stereonet.png", "geom-volumes.png"}) {
+    CAPTURE(png);
+    const std::string bytes = test::read_bytes(tmp / "png" / png);
+    REQUIRE(bytes.size() > 1000);
+    CHECK(bytes.substr(1, 3) == "PNG");
+  }
 }

@@ -88,9 +88,11 @@ std::string scene_text(std::uint64_t seed, int dimension) {
   return s.str();
 }
 
-slice::BlockSystem cut_and_prune(const std::string& text) {
+slice::BlockSystem cut_and_prune(const std::string& text,
+                                 slice::LpBackend backend = slice::LpBackend::native) {
   const slice::JointSystem js = slice::generate_joints(slice::parse_scene(text, "section.toml"));
   slice::CutOptions opt;
+  opt.backend = backend;
   opt.threads = 1;
   slice::BlockSystem bs = slice::cut_blocks(js, opt).blocks;
   slice::prune_blocks(bs, opt.backend, {}, false, 1);
@@ -147,4 +149,30 @@ TEST_CASE("a section gives the blocks of its prism block by block", "[property][
   }
   INFO(blocks << " blocks in " << n << " sections");
   CHECK(blocks > 30 * n);
+}
+
+// The two-variable LPs on every backend: exact (CGAL) and ipopt make the blocks native makes.
+TEST_CASE("a section cuts the same on every LP backend", "[property][section][lp]") {
+  const long n = test::scaled_cases(3);
+  for (long seed = 1; seed <= n; ++seed) {
+    CAPTURE(seed);
+    const std::string text = scene_text(std::uint64_t(seed), 2);
+    const slice::BlockSystem native = cut_and_prune(text);
+    const double L = native.joints.length_scale;
+    for (const auto backend : {slice::LpBackend::exact, slice::LpBackend::ipopt}) {
+      CAPTURE(slice::to_string(backend));
+      const slice::BlockSystem other = cut_and_prune(text, backend);
+      REQUIRE(other.blocks.size() == native.blocks.size());
+      double worst = 0;
+      for (std::size_t i = 0; i < native.blocks.size(); ++i) {
+        CHECK(other.blocks[i].flags == native.blocks[i].flags);
+        CHECK(joints_of(other.blocks[i]) == joints_of(native.blocks[i]));
+        worst =
+            std::max(worst, (other.geometry->centroid[i] - native.geometry->centroid[i]).norm());
+        CHECK(std::abs(other.geometry->volume[i] - native.geometry->volume[i]) <=
+              1e-6 * native.geometry->volume[i]);
+      }
+      CHECK(worst <= 1e-6 * L);
+    }
+  }
 }
