@@ -27,7 +27,6 @@ using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
 using slice::Vec3;
 using test::read_vtu;
-using test::run_yade;
 
 namespace {
 
@@ -186,13 +185,8 @@ TEST_CASE("2-D: the YADE model of prisms runs in YADE and stays in the section",
   const auto st = slice::write_yade_script(model, bs, opt);
   CHECK(st.bodies == bs.blocks.size() - 1);
   CHECK(st.clumps == 1);
-  const int code =
-      run_yade(test::test_data_path("yade_report.py").string(),
-               test::shell_quote(model) + " " + test::shell_quote(report), tmp / "yade.log");
-  INFO("yade log (tail): " << [&] {
-    const std::string l = test::read_bytes(tmp / "yade.log");
-    return l.substr(l.size() > 2000 ? l.size() - 2000 : 0);
-  }());
+  const int code = test::run_yade_report(model, report, tmp / "yade.log");
+  INFO("yade log (tail): " << test::tail_of(tmp / "yade.log"));
   REQUIRE(code == 0);
   const auto r = nlohmann::json::parse(test::read_bytes(report));
   REQUIRE_FALSE(r.contains("error"));

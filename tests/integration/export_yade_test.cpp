@@ -44,13 +44,8 @@ TEST_CASE("the YADE model runs 20 steps in YADE and matches /geometry", "[tools]
       run_tool("slice-export", {geom, "--format", "yade", "--yade-steps", steps, "-o", model});
   INFO(ex.err);
   REQUIRE(ex.exit_code == 0);
-  const int code =
-      run_yade(test::test_data_path("yade_report.py").string(),
-               test::shell_quote(model) + " " + test::shell_quote(report), tmp / "yade.log");
-  INFO("yade log (tail): " << [&] {
-    const std::string l = test::read_bytes(tmp / "yade.log");
-    return l.substr(l.size() > 2000 ? l.size() - 2000 : 0);
-  }());
+  const int code = test::run_yade_report(model, report, tmp / "yade.log");
+  INFO("yade log (tail): " << test::tail_of(tmp / "yade.log"));
   REQUIRE(code == 0);
   REQUIRE(test::fs::exists(report));
   const auto r = nlohmann::json::parse(test::read_bytes(report));

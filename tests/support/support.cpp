@@ -132,4 +132,14 @@ int run_yade(const std::string& script, const std::string& args, const fs::path&
                    shell_quote(log.string()) + " 2>&1");
 }
 
+int run_yade_report(const fs::path& model, const fs::path& report, const fs::path& log) {
+  return run_yade(test_data_path("yade_report.py").string(),
+                  shell_quote(model) + " " + shell_quote(report), log);
+}
+
+std::string tail_of(const fs::path& file, std::size_t n) {
+  const std::string text = read_bytes(file);
+  return text.substr(text.size() > n ? text.size() - n : 0);
+}
+
 }  // namespace test

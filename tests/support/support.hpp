@@ -61,6 +61,11 @@ int run_shell(const std::string& command);
 /// Runs `yade -n -x script args...` with its output in `log`; returns the exit code. Requires
 /// yade on PATH (pipelines/setup installs it): a test fails, never skips, without it.
 int run_yade(const std::string& script, const std::string& args, const fs::path& log);
+/// Runs tests/data/yade_report.py on a model script: YADE writes the JSON `report` of what it
+/// built and ran; its output goes to `log`. Returns YADE's exit code.
+int run_yade_report(const fs::path& model, const fs::path& report, const fs::path& log);
+/// The last `n` bytes of a file (a log, for a failing test's message).
+std::string tail_of(const fs::path& file, std::size_t n = 2000);
 
 /// The share of the property tests' random cases to run: $SLICE_PROPERTY_SCALE, a number in
 /// (0, 1]; 1 (every case) when unset. The sanitizer run (.ci/sanitize) sets a fraction, so the

@@ -40,6 +40,22 @@ std::string face_name(const Block& b, std::size_t f) {
          (j < 0 ? std::string(" (a domain face)") : " (joint " + std::to_string(j) + ")");
 }
 
+/// Throws unless every vertex (relative to `centre`, block frame) lies inside every face of
+/// the block to within the geometry tolerance.
+void check_inside(const Block& b, const std::vector<Vec3>& local, const Vec3& centre,
+                  const Tolerances& tol, std::size_t id) {
+  for (std::size_t v = 0; v < local.size(); ++v)
+    for (std::size_t f = 0; f < b.faces.size(); ++f) {
+      const Face& fc = b.faces[f];
+      const double out = fc.normal.dot(local[v]) - (fc.d - fc.normal.dot(centre));
+      if (out > tol.geometry)
+        throw Error(block_name(id),
+                    "vertex " + std::to_string(v) + " lies " + num(out) + " outside " +
+                        face_name(b, f) + " (tolerance " + num(tol.geometry) + ")",
+                    "the block is too ill-conditioned for its tolerance; please report it");
+    }
+}
+
 constexpr const char* kSlicerFix =
     "the slicer left a face without area (a defect of slice-cut / slice-prune at this "
     "tolerance); please report it with the scene file";
@@ -276,16 +292,7 @@ std::vector<Vec3> polygon_vertices(const Block& b, const std::vector<std::size_t
       throw Error(block_name(id), "its faces do not bound it (a vertex at infinity)",
                   "regenerate the blocks with slice-cut");
   }
-  for (std::size_t v = 0; v < nv; ++v)
-    for (std::size_t f = 0; f < b.faces.size(); ++f) {
-      const Face& fc = b.faces[f];
-      const double out = fc.normal.dot(local[v]) - (fc.d - fc.normal.dot(centre));
-      if (out > tol.geometry)
-        throw Error(block_name(id),
-                    "vertex " + std::to_string(v) + " lies " + num(out) + " outside " +
-                        face_name(b, f) + " (tolerance " + num(tol.geometry) + ")",
-                    "the block is too ill-conditioned for its tolerance; please report it");
-    }
+  check_inside(b, local, centre, tol, id);
   return local;
 }
 
@@ -471,16 +478,7 @@ BlockGeometry block_geometry(const Block& b, const JointSystem& js, const Tolera
   }
 
   // Every vertex satisfies every half-space (the hull is exact; rounding is far below tol).
-  for (std::size_t v = 0; v < local.size(); ++v)
-    for (std::size_t f = 0; f < nf; ++f) {
-      const Face& fc = b.faces[f];
-      const double out = fc.normal.dot(local[v]) - (fc.d - fc.normal.dot(centre));
-      if (out > tol.geometry)
-        throw Error(block_name(id),
-                    "vertex " + std::to_string(v) + " lies " + num(out) + " outside " +
-                        face_name(b, f) + " (tolerance " + num(tol.geometry) + ")",
-                    "the block is too ill-conditioned for its tolerance; please report it");
-    }
+  check_inside(b, local, centre, tol, id);
 
   // Face loops: the facets around a hull vertex, in the hull's counter-clockwise order, are the
   // face's vertices counter-clockwise seen from outside (the polar map keeps orientation).
