@@ -185,6 +185,10 @@ struct VertexExtremes {
 };
 inline constexpr std::size_t kVertexFaces = 10;
 VertexExtremes vertex_extremes(std::span<const Face> faces, unsigned wanted);
+/// The same where it applies, none found elsewhere: the native backend (exact and ipopt give
+/// their own answers) on a 3-D block (a section's LPs are 2-D).
+VertexExtremes vertex_extremes(const LpSolver& solver, std::span<const Face> faces, unsigned wanted,
+                               const Tolerances& tol);
 
 /// Chebyshev centre and inscribed radius (eq. 18): minimise t s.t. a_i . x - d_i <= t,
 /// radius = -t*. A radius <= tol.geometry means the block has no interior.

@@ -13,6 +13,7 @@
 #include "slice/orientation.hpp"
 #include "slice/output.hpp"
 #include "slice/polytope.hpp"
+#include "slice/scene.hpp"
 #include "slice/vertices.hpp"
 #include "vtu_file.hpp"
 
@@ -216,12 +217,9 @@ struct JointPieces {
   std::size_t skipped = 0;
 };
 
-/// The domain's box (its vertices' bounding box); `extra` planes close a section's domain.
-PolytopeInfo joint_domain(const std::filesystem::path& out, const JointSystem& js,
-                          const std::vector<Plane>& extra, double tol) {
-  std::vector<Plane> planes = js.domain.planes;
-  planes.insert(planes.end(), extra.begin(), extra.end());
-  PolytopeInfo dom = analyse_polytope(planes, tol);
+/// The domain's box (its vertices' bounding box); a section's as its unit-thickness slab.
+PolytopeInfo joint_domain(const std::filesystem::path& out, const JointSystem& js, double tol) {
+  PolytopeInfo dom = analyse_polytope(solid_region(js.domain, js.dimension), tol);
   if (!dom.bounded || !dom.has_interior)
     throw Error(out.string(), "the domain is empty or unbounded",
                 "regenerate it with slice-joints");
@@ -231,7 +229,7 @@ PolytopeInfo joint_domain(const std::filesystem::path& out, const JointSystem& j
 /// 3-D: polygons (a persistent joint: a square of its plane around the domain's centre, larger
 /// than the domain, clipped).
 JointPieces joint_polygons(const std::filesystem::path& out, const JointSystem& js, double tol) {
-  const PolytopeInfo dom = joint_domain(out, js, {}, tol);
+  const PolytopeInfo dom = joint_domain(out, js, tol);
   const Vec3 centre = (dom.min + dom.max) / 2;
   const double half = 2 * ((dom.max - dom.min).norm() / 2 + tol);  // covers the whole domain
   JointPieces pieces;
@@ -263,8 +261,7 @@ JointPieces joint_polygons(const std::filesystem::path& out, const JointSystem& 
 /// clipped to the domain. The domain has no faces normal to y: for analyse_polytope, which needs
 /// a bounded region, it is closed by y = +-0.5 (the section's unit thickness).
 JointPieces joint_segments(const std::filesystem::path& out, const JointSystem& js, double tol) {
-  const PolytopeInfo dom =
-      joint_domain(out, js, {{Vec3::UnitY(), 0.5}, {-Vec3::UnitY(), 0.5}}, tol);
+  const PolytopeInfo dom = joint_domain(out, js, tol);
   const Vec3 centre = (dom.min + dom.max) / 2;
   const double half = 2 * ((dom.max - dom.min).norm() / 2 + tol);  // covers the whole domain
   JointPieces pieces;

@@ -144,7 +144,8 @@ std::vector<Triangle> convex_hull(const std::vector<Point>& pts) {
 }
 
 /// The block's interior point the dual hull is built about, block frame: the origin when it is
-/// well inside (slice-cut puts it at the Chebyshev centre), else the Chebyshev centre.
+/// well inside (slice-cut puts it at the Chebyshev centre), else the Chebyshev centre (of the
+/// polygon, y = 0, in a section: tol.dimension).
 Vec3 hull_centre(const Block& b, const Tolerances& tol, std::size_t id) {
   double min_d = b.faces.front().d;
   for (const Face& f : b.faces) min_d = std::min(min_d, f.d);
@@ -199,30 +200,6 @@ std::vector<std::size_t> convex_hull_2(const std::vector<Point2>& pts) {
   chain(order.begin(), order.end());    // lower chain, left to right
   chain(order.rbegin(), order.rend());  // upper chain, right to left
   return hull;
-}
-
-/// An interior point of a section's block, block frame (y = 0): the origin when well inside,
-/// else the Chebyshev centre. The faces bound no solid in 3-D, so the LP gets two faces
-/// y = +-L more: its radius is then min(polygon's inradius, L) and its (x, z) centre at least
-/// that far inside every edge, which is all the dual hull needs. The LP is 3-D (the y faces
-/// make it one), whatever tol.dimension says.
-Vec3 hull_centre_2d(const Block& b, const Tolerances& tol, std::size_t id) {
-  double min_d = b.faces.front().d;
-  for (const Face& f : b.faces) min_d = std::min(min_d, f.d);
-  if (min_d > tol.geometry && min_d >= 0.5 * b.inradius) return Vec3::Zero();
-  std::vector<Face> faces = b.faces;
-  faces.push_back({Vec3::UnitY(), tol.length_scale, -1});
-  faces.push_back({-Vec3::UnitY(), tol.length_scale, -1});
-  Tolerances tol3 = tol;
-  tol3.dimension = 3;
-  const auto solver = make_solver(LpBackend::native);
-  const ChebyshevBall c = chebyshev_ball(*solver, faces, tol3);
-  if (c.status != LpStatus::optimal || c.radius <= tol.geometry)
-    throw Error(block_name(id),
-                "its edges leave no interior (Chebyshev LP: " + to_string(c.status) + ", radius " +
-                    num(c.radius) + ")",
-                "regenerate the blocks with slice-cut");
-  return {c.centre.x(), 0, c.centre.z()};
 }
 
 /// The vertex where the lines n . x = d of two faces meet, relative to `centre` (y = 0).
@@ -316,7 +293,7 @@ BlockGeometry block_geometry_2d(const Block& b, const JointSystem& js, const Tol
                   face_name(b, f) + " has a normal with y component " + num(b.faces[f].normal.y()) +
                       "; faces of a 2-D section have y = 0",
                   "regenerate the blocks with slice-cut from a dimension = 2 scene");
-  const Vec3 centre = hull_centre_2d(b, tol, id);
+  const Vec3 centre = hull_centre(b, tol, id);  // a 2-D Chebyshev LP: tol.dimension is 2
 
   std::vector<Point2> dual;
   dual.reserve(nf);

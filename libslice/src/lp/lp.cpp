@@ -410,11 +410,15 @@ VertexExtremes vertex_extremes(std::span<const Face> faces, unsigned wanted) {
   return out;
 }
 
+VertexExtremes vertex_extremes(const LpSolver& solver, std::span<const Face> faces, unsigned wanted,
+                               const Tolerances& tol) {
+  if (solver.backend() != LpBackend::native || section(tol)) return {};
+  return vertex_extremes(faces, wanted);
+}
+
 Extents extents(LpSolver& solver, std::span<const Face> faces, const Tolerances& tol) {
   check_block(faces, tol, "extents");
-  const VertexExtremes v = solver.backend() == LpBackend::native && !section(tol)
-                               ? vertex_extremes(faces, 0x3fu)
-                               : VertexExtremes{};
+  const VertexExtremes v = vertex_extremes(solver, faces, 0x3fu, tol);
   DenseLp* lp = nullptr;
   Extents out;
   out.status = LpStatus::optimal;

@@ -223,9 +223,7 @@ class Subdivision {
     if (parent)
       for (int k = 0; k < 6; ++k)
         if (plane->distance(parent->x[std::size_t(k)]) < -ctx.tol.geometry) inherited |= 1u << k;
-    const VertexExtremes v = solver.backend() == LpBackend::native && ctx.tol.dimension == 3
-                                 ? vertex_extremes(b.faces, 0x3fu & ~inherited)
-                                 : VertexExtremes{};
+    const VertexExtremes v = vertex_extremes(solver, b.faces, 0x3fu & ~inherited, ctx.tol);
     lps.vertex_extremes += static_cast<std::size_t>(std::popcount(v.found));
     for (int k = 0; k < 6; ++k) {
       const int axis = k / 2;
