@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <future>
 #include <string>
+#include <utility>
 
 #include "common/tool.hpp"
 #include "slice/cut.hpp"
@@ -26,7 +27,8 @@ int main(int argc, char** argv) {
   t.add_compress_option();
   return t.run(argc, argv, [&] {
     tool::check_distinct_paths({{"blocks", in, false}, {"-o", out}});
-    // The input's hash is taken while it is read, /blocks written while /geometry is computed.
+    // The input's hash is taken while it is read; /blocks and then /geometry, run by run, are
+    // written while /geometry is computed.
     auto provenance = std::async(std::launch::async, [&] { return t.provenance(in); });
     slice::BlockSystem bs = slice::read_blocks(in);
     if (!bs.pruned && !prune)
@@ -39,7 +41,8 @@ int main(int argc, char** argv) {
             std::to_string(ps.faces_after) + " (" + tool::fixed(ps.seconds, 3) + " s)");
     }
     slice::BlocksFileWriter writer(out, bs, provenance.get(), t.write_options());
-    const slice::GeometryStats s = slice::compute_geometry(bs, t.progress(), t.threads);
+    const slice::GeometryStats s =
+        slice::compute_geometry(std::as_const(bs), writer.geometry_sink(), t.progress(), t.threads);
     writer.finish();
     const double us = s.blocks ? 1e6 * s.seconds / double(s.blocks) : 0;
     t.say(std::to_string(s.blocks) + " blocks, " + std::to_string(s.vertices) + " vertices, " +

@@ -163,3 +163,89 @@ TEST_CASE("the reader refuses a spoiled /geometry and names the file and dataset
   const std::string msg = error_of([&] { slice::read_blocks(p); });
   CHECK_THAT(msg, Contains(p.string()) && Contains(expect));
 }
+
+namespace {
+
+// n^3 unit cubes in a grid, pruned, no geometry yet: more blocks than one run of kGeometryRun,
+// with the joints (and options) of sample().
+slice::BlockSystem cubes(int n) {
+  slice::BlockSystem bs;
+  bs.joints = sample().joints;
+  bs.pruned = true;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        slice::Block b;
+        b.origin = {i + 0.5, j + 0.5, k + 0.5};
+        for (int axis = 0; axis < 3; ++axis)
+          for (const double sign : {-1.0, 1.0}) {
+            slice::Face f;
+            f.normal = sign * slice::Vec3::Unit(axis);
+            f.d = 0.5;
+            b.faces.push_back(f);
+          }
+        b.inradius = 0.5;
+        b.bsphere << b.origin, std::sqrt(0.75);
+        bs.blocks.push_back(b);
+      }
+  return bs;
+}
+
+}  // namespace
+
+TEST_CASE("/geometry streamed run by run while it is computed gives write_blocks' bytes",
+          "[h5io][geometry]") {
+  test::TempDir dir;
+  const auto grid = cubes(34);  // 39,304 blocks: two runs, vertices in two chunks
+  REQUIRE(grid.blocks.size() > slice::kGeometryRun);
+  auto held = grid;
+  slice::compute_geometry(held, {}, 1);
+  const bool compress = GENERATE(false, true);
+  CAPTURE(compress);
+  slice::write_blocks(dir / "held.h5", held, {}, {compress});
+
+  {
+    slice::BlocksFileWriter w(dir / "streamed.h5", grid, {}, {compress});
+    const slice::GeometrySink sink = w.geometry_sink();
+    std::size_t runs = 0;
+    const auto st = slice::compute_geometry(
+        grid,
+        [&](std::size_t first, slice::Geometry&& run) {
+          CHECK(first == runs * slice::kGeometryRun);
+          ++runs;
+          sink(first, std::move(run));
+        },
+        {}, 2);
+    CHECK(runs == 2);
+    CHECK(st.vertices == 8 * grid.blocks.size());
+    w.finish();
+  }
+  CHECK(test::read_bytes(dir / "streamed.h5") == test::read_bytes(dir / "held.h5"));
+  const auto back = slice::read_blocks(dir / "streamed.h5");
+  REQUIRE(back.geometry);
+  check_same(*held.geometry, *back.geometry);
+
+  SECTION("held geometry given to the writer without a sink: the same bytes") {
+    slice::BlocksFileWriter w(dir / "late.h5", held, {}, {compress});
+    w.finish();
+    CHECK(test::read_bytes(dir / "late.h5") == test::read_bytes(dir / "held.h5"));
+  }
+  SECTION("a run that does not match its blocks: an error naming the file's row, nothing written") {
+    const std::string msg = error_of([&] {
+      slice::BlocksFileWriter w(dir / "bad.h5", grid, {}, {compress});
+      const slice::GeometrySink sink = w.geometry_sink();
+      slice::compute_geometry(
+          grid,
+          [&](std::size_t first, slice::Geometry&& run) {
+            if (first > 0) run.volume[5] = -1;  // block kGeometryRun + 5
+            sink(first, std::move(run));
+          },
+          {}, 2);
+      w.finish();
+    });
+    CHECK_THAT(msg, Contains("bad.h5: /geometry/volume row " +
+                             std::to_string(slice::kGeometryRun + 5) + " is -1") &&
+                        Contains("nothing was written"));
+    CHECK_FALSE(std::filesystem::exists(dir / "bad.h5"));
+  }
+}

@@ -3,7 +3,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace slice {
@@ -67,5 +69,11 @@ struct Geometry {
   std::vector<double> face_joint_fraction;          // F: part of the face inside its joint's
                                                     //   polygon (1: persistent or domain face)
 };
+
+/// Receives the geometry of a run of consecutive blocks, [first, first + part.volume.size()), as
+/// a Geometry of its own (its offsets count from 0). compute_geometry hands its result over in
+/// runs of kGeometryRun blocks (the last one shorter), in block order.
+using GeometrySink = std::function<void(std::size_t first, Geometry&& part)>;
+inline constexpr std::size_t kGeometryRun = 32768;
 
 }  // namespace slice

@@ -67,13 +67,14 @@ void write_blocks(const std::filesystem::path& out, const BlockSystem& bs, const
                   const WriteOptions& opt = {});
 BlockSystem read_blocks(const std::filesystem::path& in);
 
-/// write_blocks in two parts, for a tool that computes /geometry meanwhile (slice-vertices): the
-/// constructor checks the joints and blocks and writes them (and the header) to `out`'s .partial
-/// on a thread of its own; finish() waits for that, checks and writes bs.geometry (if any) and
-/// renames the file onto `out`. The bytes are write_blocks'. Until finish() returns, nothing but
-/// bs.geometry may change, and nothing of bs but bs.geometry may be read by another thread that
-/// writes. Errors of the first part are thrown by finish(); destroyed unfinished, it waits for
-/// the thread and removes the .partial.
+/// write_blocks while /geometry is computed (slice-vertices): the constructor checks the joints
+/// and blocks and writes them (and the header) to `out`'s .partial on a thread of its own, which
+/// then writes the runs of /geometry that geometry_sink() is given (compute_geometry's sink), each
+/// checked against its blocks, as they come. finish() waits for that (or, if no sink was asked
+/// for, checks and writes bs.geometry, if any) and renames the file onto `out`. The bytes are
+/// write_blocks'. Until finish() returns, nothing of bs may change but bs.geometry (and that only
+/// if no sink was asked for). Errors of the writing thread are thrown by finish(); destroyed
+/// unfinished, it waits for the thread and removes the .partial.
 class BlocksFileWriter {
  public:
   BlocksFileWriter(const std::filesystem::path& out, const BlockSystem& bs, const Provenance& prov,
@@ -81,6 +82,9 @@ class BlocksFileWriter {
   ~BlocksFileWriter();
   BlocksFileWriter(const BlocksFileWriter&) = delete;
   BlocksFileWriter& operator=(const BlocksFileWriter&) = delete;
+  /// Takes the runs of /geometry in block order (kGeometryRun blocks each, as compute_geometry
+  /// hands them over) and queues them for the writing thread; cheap, never blocks on the file.
+  GeometrySink geometry_sink();
   void finish();
 
  private:

@@ -77,5 +77,10 @@ struct GeometryStats {
 /// or if a block has a face without area (block_geometry). `threads`: 0 for all cores; the
 /// result and the error reported are the same for every count.
 GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress = {}, int threads = 0);
+/// The same, handed over run by run to `sink` (kGeometryRun blocks each, in block order; the
+/// sink is called on one thread at a time, while the next run is computed) instead of stored:
+/// BlocksFileWriter::geometry_sink() writes the runs as they come.
+GeometryStats compute_geometry(const BlockSystem& bs, const GeometrySink& sink,
+                               const Progress& progress = {}, int threads = 0);
 
 }  // namespace slice

@@ -13,6 +13,7 @@
 #include <exception>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "../threads.hpp"
 #include "slice/error.hpp"
@@ -570,7 +571,8 @@ void append(Geometry& geo, const Geometry& part) {
 
 }  // namespace
 
-GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress, int threads) {
+GeometryStats compute_geometry(const BlockSystem& bs, const GeometrySink& sink,
+                               const Progress& progress, int threads) {
   const auto t0 = Clock::now();
   if (!bs.pruned)
     throw Error("/blocks attribute pruned",
@@ -578,26 +580,25 @@ GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress, int th
                 "prune them first: slice-prune, slice-cut --prune or slice-vertices --prune");
   const Tolerances tol = Tolerances::from_scale(bs.joints.length_scale, bs.joints.options.tolerance,
                                                 bs.joints.dimension);
-  Geometry geo;
   const std::size_t n = bs.blocks.size();
-  geo.volume.reserve(n);
-  geo.centroid.reserve(n);
-  geo.inertia.reserve(n);
   GeometryStats st;
-  // Blocks are independent: chunks of them are computed concurrently (oneTBB), a wave of chunks
-  // at a time, while the wave before is appended in block order. So the result is the same for
-  // every thread count and at most two waves are held twice. The first error in block order is
-  // the one reported.
-  constexpr std::size_t kChunk = 512, kWave = 64;
+  // Blocks are independent: chunks of them are computed concurrently (oneTBB), a run of chunks
+  // at a time, while the run before is gathered in block order and handed to the sink. So the
+  // result is the same for every thread count and at most two runs are held here. The first error
+  // in block order is the one reported.
+  constexpr std::size_t kChunk = 512, kWave = kGeometryRun / kChunk;
+  static_assert(kWave * kChunk == kGeometryRun);
   tbb::task_arena arena(thread_count(threads));
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
   struct Wave {
+    std::size_t first = 0;  // its first block
     std::vector<Geometry> parts;
     std::vector<GeometryStats> stats;
     std::vector<std::exception_ptr> failure;
   };
   const auto compute = [&](std::size_t w0, Wave& wave) {
     const std::size_t count = std::min(chunks, w0 + kWave) - w0;
+    wave.first = w0 * kChunk;
     wave.parts.assign(count, Geometry{});
     wave.stats.assign(count, GeometryStats{});
     wave.failure.assign(count, nullptr);
@@ -611,19 +612,23 @@ GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress, int th
       }
     });
   };
-  // Appends a wave; false (and the error kept) at its first failed chunk.
+  // Hands a wave over as one run; false (and the error kept) at its first failed chunk.
   std::exception_ptr failure;
   const auto gather = [&](Wave& wave) {
+    if (wave.parts.empty()) return true;
+    Geometry run;
     for (std::size_t c = 0; c < wave.parts.size(); ++c) {
       if (wave.failure[c]) {
         failure = wave.failure[c];
         return false;
       }
-      append(geo, wave.parts[c]);
+      append(run, wave.parts[c]);
       st.vertices += wave.stats[c].vertices;
       st.faces += wave.stats[c].faces;
     }
+    const std::size_t first = wave.first;
     wave = Wave{};
+    sink(first, std::move(run));
     return true;
   };
   Wave ready, next;
@@ -642,8 +647,18 @@ GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress, int th
   });
   if (failure) std::rethrow_exception(failure);
   st.blocks = n;
-  bs.geometry = std::move(geo);
   st.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return st;
+}
+
+GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress, int threads) {
+  Geometry geo;
+  geo.volume.reserve(bs.blocks.size());
+  geo.centroid.reserve(bs.blocks.size());
+  geo.inertia.reserve(bs.blocks.size());
+  const GeometryStats st = compute_geometry(
+      std::as_const(bs), [&](std::size_t, Geometry&& run) { append(geo, run); }, progress, threads);
+  bs.geometry = std::move(geo);
   return st;
 }
 

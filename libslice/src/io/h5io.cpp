@@ -4,9 +4,12 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <future>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -23,6 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using h5::Group;
+using h5::RowWriter;
 
 // A normal is a unit vector if ||n| - 1| <= this. Normalising in double leaves ~1e-16; 1e-9
 // rejects a vector nobody normalised without rejecting rounding. Dimensionless.
@@ -233,28 +237,36 @@ void check_joints(const Checker& c, const JointSystem& js) {
 
 // How far a stored vertex may lie off its faces: slice-vertices keeps every vertex within the
 // geometry tolerance of its block's half-spaces in the block frame; storing it in the global frame
-// rounds each coordinate once more (half an ulp of the largest coordinate).
-double vertex_tolerance(const BlockSystem& bs) {
+// rounds each coordinate once more (half an ulp of the largest coordinate). A writer checks a run
+// of blocks with the run's largest coordinate, no more than the file's: what it writes, a reader
+// accepts.
+double vertex_tolerance(const JointSystem& js, const std::vector<Vec3>& vertices) {
   double coord = 0;
-  for (const Vec3& v : bs.geometry->vertices) coord = std::max(coord, v.cwiseAbs().maxCoeff());
-  const Tolerances tol =
-      Tolerances::from_scale(bs.joints.length_scale, bs.joints.options.tolerance);
+  for (const Vec3& v : vertices) coord = std::max(coord, v.cwiseAbs().maxCoeff());
+  const Tolerances tol = Tolerances::from_scale(js.length_scale, js.options.tolerance);
   return 2 * tol.geometry + 8 * std::numeric_limits<double>::epsilon() * coord;
 }
 
-// Block b's vertices against its faces (the first face's row is `face_row`): every vertex inside
-// every face, and every vertex of a face's loop on that face's plane. A file whose vertices were
-// edited, or taken from other blocks, fails here instead of exporting a wrong model.
-void check_vertices_on_faces(const Checker& c, const BlockSystem& bs, std::size_t b,
-                             std::size_t face_row, double tol) {
-  const Geometry& g = *bs.geometry;
-  const Block& blk = bs.blocks[b];
+// Where the geometry of a run of blocks starts in /geometry (its rows and offsets there): a
+// Geometry of a run counts from 0, messages name the file's rows.
+struct GeometryBase {
+  std::size_t block = 0, face = 0;
+  std::int64_t vertex = 0, face_vertex = 0;
+};
+
+// Block b of the run `g` (the file's block base.block + b; its first face is the run's row
+// `face_row`) against its faces: every vertex inside every face, and every vertex of a face's loop
+// on that face's plane. A file whose vertices were edited, or taken from other blocks, fails here
+// instead of exporting a wrong model.
+void check_vertices_on_faces(const Checker& c, const Geometry& g, const Block& blk, std::size_t b,
+                             std::size_t face_row, const GeometryBase& base, double tol) {
   const auto v0 = static_cast<std::size_t>(g.vertex_offset[b]);
   const auto v1 = static_cast<std::size_t>(g.vertex_offset[b + 1]);
   const auto fail = [&](std::size_t v, std::size_t f, double off, const char* how) {
-    c.fail(at("/geometry/vertices", v) + " " + row_text(g.vertices[v].data(), 3) + " lies " +
-           num(off) + " " + how + " face " + str(face_row + f) + " of block " + str(b) +
-           " (tolerance " + num(tol) + "): /geometry does not match /blocks");
+    c.fail(at("/geometry/vertices", std::size_t(base.vertex) + v) + " " +
+           row_text(g.vertices[v].data(), 3) + " lies " + num(off) + " " + how + " face " +
+           str(base.face + face_row + f) + " of block " + str(base.block + b) + " (tolerance " +
+           num(tol) + "): /geometry does not match /blocks");
   };
   for (std::size_t f = 0; f < blk.faces.size(); ++f) {
     const Face& fc = blk.faces[f];
@@ -273,12 +285,14 @@ void check_vertices_on_faces(const Checker& c, const BlockSystem& bs, std::size_
   }
 }
 
-// /geometry against the blocks it describes: CSR shapes, indices, finite and positive values.
-void check_geometry(const Checker& c, const BlockSystem& bs) {
-  const Geometry& g = *bs.geometry;
-  const std::size_t n = bs.blocks.size();
+// The geometry `g` of the n blocks from base.block on (all of /geometry if base is zero and n
+// the block count) against the blocks it describes: CSR shapes, indices, finite and positive
+// values.
+void check_geometry(const Checker& c, const BlockSystem& bs, const Geometry& g,
+                    const GeometryBase& base, std::size_t n, double tol) {
+  SLICE_ASSERT(base.block + n <= bs.blocks.size());
   std::size_t faces = 0;
-  for (const Block& b : bs.blocks) faces += b.faces.size();
+  for (std::size_t b = 0; b < n; ++b) faces += bs.blocks[base.block + b].faces.size();
   const auto rows = [&](const std::string& name, std::size_t got, std::size_t want,
                         const std::string& because) {
     if (got != want)
@@ -286,18 +300,21 @@ void check_geometry(const Checker& c, const BlockSystem& bs) {
              because + ")");
   };
   const auto offsets = [&](const std::string& name, const std::vector<std::int64_t>& off,
-                           std::size_t count, const std::string& what, std::size_t flat) {
+                           std::size_t count, const std::string& what, std::size_t flat,
+                           std::size_t row0, std::int64_t value0) {
     rows(name, off.size(), count + 1, what + " + 1");
     for (std::size_t i = 0; i < off.size(); ++i)
       if ((i == 0 && off[0] != 0) || (i > 0 && off[i] < off[i - 1]))
-        c.fail(at("/geometry/" + name, i) + " is " + str(off[i]) +
+        c.fail(at("/geometry/" + name, row0 + i) + " is " + str(value0 + off[i]) +
                "; offsets start at 0 and never decrease");
     if (off.back() != static_cast<std::int64_t>(flat))
-      c.fail("/geometry/" + name + " ends at " + str(off.back()) + " but its flat dataset has " +
-             str(flat) + " rows");
+      c.fail("/geometry/" + name + " ends at " + str(value0 + off.back()) +
+             " but its flat dataset has " + str(value0 + std::int64_t(flat)) + " rows");
   };
-  offsets("vertex_offset", g.vertex_offset, n, "blocks", g.vertices.size());
-  offsets("face_vertex_offset", g.face_vertex_offset, faces, "faces", g.face_vertices.size());
+  offsets("vertex_offset", g.vertex_offset, n, "blocks", g.vertices.size(), base.block,
+          base.vertex);
+  offsets("face_vertex_offset", g.face_vertex_offset, faces, "faces", g.face_vertices.size(),
+          base.face, base.face_vertex);
   rows("volume", g.volume.size(), n, "blocks");
   rows("centroid", g.centroid.size(), n, "blocks");
   rows("inertia", g.inertia.size(), n, "blocks");
@@ -305,44 +322,53 @@ void check_geometry(const Checker& c, const BlockSystem& bs) {
   rows("face_joint_fraction", g.face_joint_fraction.size(), faces, "faces");
 
   for (std::size_t v = 0; v < g.vertices.size(); ++v)
-    c.finite(g.vertices[v], At{"/geometry/vertices", v});
-  const double tol = vertex_tolerance(bs);
+    c.finite(g.vertices[v], At{"/geometry/vertices", std::size_t(base.vertex) + v});
+  const bool section = bs.joints.dimension == 2;
   std::size_t face = 0;
   for (std::size_t b = 0; b < n; ++b) {
+    const std::size_t block = base.block + b;  // the file's row
+    const Block& blk = bs.blocks[block];
     const std::int64_t nv = g.vertex_offset[b + 1] - g.vertex_offset[b];
     const std::size_t first_face = face;
-    for (std::size_t f = 0; f < bs.blocks[b].faces.size(); ++f, ++face) {
+    for (std::size_t f = 0; f < blk.faces.size(); ++f, ++face) {
+      const std::size_t file_face = base.face + face;
       const auto lo = static_cast<std::size_t>(g.face_vertex_offset[face]);
       const auto hi = static_cast<std::size_t>(g.face_vertex_offset[face + 1]);
       // A 2-D block's face is an edge: its two ends (docs/2d.md).
-      const bool section = bs.joints.dimension == 2;
       if (section ? hi - lo != 2 : hi - lo < 3)
-        c.fail(at("/geometry/face_vertex_offset", face) + " gives face " + str(face) + " " +
-               str(hi - lo) + " vertices; a face has " +
+        c.fail(at("/geometry/face_vertex_offset", file_face) + " gives face " + str(file_face) +
+               " " + str(hi - lo) + " vertices; a face has " +
                (section ? "2 in a 2-D file (an edge)" : "at least 3"));
       for (std::size_t k = lo; k < hi; ++k)
         if (g.face_vertices[k] < 0 || g.face_vertices[k] >= nv)
-          c.fail(at("/geometry/face_vertices", k) + " is " + str(g.face_vertices[k]) +
-                 "; expected an index into block " + str(b) + "'s " + str(nv) + " vertices");
-      c.finite(g.face_area[face], At{"/geometry/face_area", face});
+          c.fail(at("/geometry/face_vertices", std::size_t(base.face_vertex) + k) + " is " +
+                 str(g.face_vertices[k]) + "; expected an index into block " + str(block) + "'s " +
+                 str(nv) + " vertices");
+      c.finite(g.face_area[face], At{"/geometry/face_area", file_face});
       if (!(g.face_area[face] > 0))
-        c.fail(at("/geometry/face_area", face) + " is " + num(g.face_area[face]) +
+        c.fail(at("/geometry/face_area", file_face) + " is " + num(g.face_area[face]) +
                "; a face has positive area");
       const double fr = g.face_joint_fraction[face];
       if (!(fr >= 0 && fr <= 1))
-        c.fail(at("/geometry/face_joint_fraction", face) + " is " + num(fr) +
+        c.fail(at("/geometry/face_joint_fraction", file_face) + " is " + num(fr) +
                "; expected a fraction in [0, 1]");
     }
-    check_vertices_on_faces(c, bs, b, first_face, tol);
-    c.finite(g.volume[b], At{"/geometry/volume", b});
+    check_vertices_on_faces(c, g, blk, b, first_face, base, tol);
+    c.finite(g.volume[b], At{"/geometry/volume", block});
     if (!(g.volume[b] > 0))
-      c.fail(at("/geometry/volume", b) + " is " + num(g.volume[b]) +
+      c.fail(at("/geometry/volume", block) + " is " + num(g.volume[b]) +
              "; a block has positive volume");
-    c.finite(g.centroid[b], At{"/geometry/centroid", b});
+    c.finite(g.centroid[b], At{"/geometry/centroid", block});
     for (const double x : g.inertia[b])
       if (!std::isfinite(x))
-        c.fail(at("/geometry/inertia", b) + " is " + row_text(g.inertia[b].data(), 6));
+        c.fail(at("/geometry/inertia", block) + " is " + row_text(g.inertia[b].data(), 6));
   }
+}
+
+// All of /geometry against the blocks.
+void check_geometry(const Checker& c, const BlockSystem& bs) {
+  const Geometry& g = *bs.geometry;
+  check_geometry(c, bs, g, {}, bs.blocks.size(), vertex_tolerance(bs.joints, g.vertices));
 }
 
 void check_blocks(const Checker& c, const BlockSystem& bs, bool with_geometry = true) {
@@ -596,29 +622,110 @@ void write_blocks_group(const Group& root, const BlockSystem& bs) {
   flags.finish();
 }
 
-// A vector of Vec3 or Inertia as the doubles it holds, row after row (no copy).
-template <class Row, std::size_t N>
-std::span<const double> as_doubles(const std::vector<Row>& rows) {
+// Rows [lo, hi) of a vector of Vec3 or Inertia as the doubles they hold (no copy).
+template <std::size_t N, class Row>
+std::span<const double> as_doubles(const std::vector<Row>& rows, std::size_t lo, std::size_t hi) {
   static_assert(sizeof(Row) == N * sizeof(double), "rows must be N packed doubles");
-  return rows.empty() ? std::span<const double>()
-                      : std::span<const double>(reinterpret_cast<const double*>(rows.data()),
-                                                N * rows.size());
+  return lo == hi ? std::span<const double>()
+                  : std::span<const double>(reinterpret_cast<const double*>(rows.data() + lo),
+                                            N * (hi - lo));
 }
 
-void write_geometry_group(const Group& root, const Geometry& geo) {
-  const auto vertices = as_doubles<Vec3, 3>(geo.vertices);
-  const auto centroid = as_doubles<Vec3, 3>(geo.centroid);
-  const auto inertia = as_doubles<Inertia, 6>(geo.inertia);
-  const Group g = root.create_group("geometry");
-  g.write<std::int64_t>("vertex_offset", geo.vertex_offset);
-  g.write<double>("vertices", vertices, 3);
-  g.write<std::int64_t>("face_vertex_offset", geo.face_vertex_offset);
-  g.write<std::int64_t>("face_vertices", geo.face_vertices);
-  g.write<double>("volume", geo.volume);
-  g.write<double>("centroid", centroid, 3);
-  g.write<double>("inertia", inertia, 6);
-  g.write<double>("face_area", geo.face_area);
-  g.write<double>("face_joint_fraction", geo.face_joint_fraction);
+// Writes /geometry run by run, in block order (write_blocks, BlocksFileWriter): the datasets are
+// created in a fixed order, the per-block and per-face ones at their known length, vertices and
+// face_vertices growing by whole chunks. So the bytes depend on the geometry and on where the runs
+// start, which is why every writer cuts a held geometry into runs of kGeometryRun blocks as
+// compute_geometry hands them over.
+class GeometryWriter {
+ public:
+  GeometryWriter(const Group& root, const BlockSystem& bs)
+      : g_(root.create_group("geometry")),
+        faces_(count_faces(bs)),
+        vertex_offset_(g_.create_rows<std::int64_t>("vertex_offset", bs.blocks.size() + 1, 0)),
+        // A polyhedron has at most 2F - 4 vertices and 2 (3F - 6) loop entries; a polygon F and 2F.
+        vertices_(g_.create_growing_rows<double>("vertices", 3,
+                                                 bs.joints.dimension == 2 ? faces_ : 2 * faces_)),
+        face_vertex_offset_(g_.create_rows<std::int64_t>("face_vertex_offset", faces_ + 1, 0)),
+        face_vertices_(g_.create_growing_rows<std::int64_t>(
+            "face_vertices", 0, bs.joints.dimension == 2 ? 2 * faces_ : 6 * faces_)),
+        volume_(g_.create_rows<double>("volume", bs.blocks.size(), 0)),
+        centroid_(g_.create_rows<double>("centroid", bs.blocks.size(), 3)),
+        inertia_(g_.create_rows<double>("inertia", bs.blocks.size(), 6)),
+        face_area_(g_.create_rows<double>("face_area", faces_, 0)),
+        face_joint_fraction_(g_.create_rows<double>("face_joint_fraction", faces_, 0)),
+        bs_(bs) {
+    const std::int64_t zero = 0;
+    vertex_offset_.append({&zero, 1});
+    face_vertex_offset_.append({&zero, 1});
+  }
+
+  /// Where the next run starts in the file.
+  const GeometryBase& next() const { return next_; }
+
+  /// Appends n blocks of `geo`, from its block `first` whose first face is its face row
+  /// `first_face`: a whole geometry, or (0, 0) a run of its own.
+  void append(const Geometry& geo, std::size_t first, std::size_t first_face, std::size_t n) {
+    std::size_t faces = 0;
+    for (std::size_t b = next_.block; b < next_.block + n; ++b) faces += bs_.blocks[b].faces.size();
+    const std::size_t v0 = std::size_t(geo.vertex_offset[first]);
+    const std::size_t v1 = std::size_t(geo.vertex_offset[first + n]);
+    const std::size_t fv0 = std::size_t(geo.face_vertex_offset[first_face]);
+    const std::size_t fv1 = std::size_t(geo.face_vertex_offset[first_face + faces]);
+    const auto rebased = [&](const std::vector<std::int64_t>& off, std::size_t lo,
+                             std::size_t count, std::int64_t base) {
+      offsets_.clear();
+      for (std::size_t i = lo + 1; i <= lo + count; ++i)
+        offsets_.push_back(base + off[i] - off[lo]);
+      return std::span<const std::int64_t>(offsets_);
+    };
+    vertex_offset_.append(rebased(geo.vertex_offset, first, n, next_.vertex));
+    vertices_.append(as_doubles<3>(geo.vertices, v0, v1));
+    face_vertex_offset_.append(
+        rebased(geo.face_vertex_offset, first_face, faces, next_.face_vertex));
+    face_vertices_.append(std::span(geo.face_vertices).subspan(fv0, fv1 - fv0));
+    volume_.append(std::span(geo.volume).subspan(first, n));
+    centroid_.append(as_doubles<3>(geo.centroid, first, first + n));
+    inertia_.append(as_doubles<6>(geo.inertia, first, first + n));
+    face_area_.append(std::span(geo.face_area).subspan(first_face, faces));
+    face_joint_fraction_.append(std::span(geo.face_joint_fraction).subspan(first_face, faces));
+    next_.block += n;
+    next_.face += faces;
+    next_.vertex += std::int64_t(v1 - v0);
+    next_.face_vertex += std::int64_t(fv1 - fv0);
+  }
+
+  void finish() {
+    SLICE_ASSERT(next_.block == bs_.blocks.size() && next_.face == faces_);
+    for (auto* w : {&vertex_offset_, &face_vertex_offset_, &face_vertices_}) w->finish();
+    for (auto* w :
+         {&vertices_, &volume_, &centroid_, &inertia_, &face_area_, &face_joint_fraction_})
+      w->finish();
+  }
+
+ private:
+  static std::size_t count_faces(const BlockSystem& bs) {
+    std::size_t faces = 0;
+    for (const Block& b : bs.blocks) faces += b.faces.size();
+    return faces;
+  }
+  Group g_;
+  std::size_t faces_;
+  RowWriter<std::int64_t> vertex_offset_;
+  RowWriter<double> vertices_;
+  RowWriter<std::int64_t> face_vertex_offset_, face_vertices_;
+  RowWriter<double> volume_, centroid_, inertia_, face_area_, face_joint_fraction_;
+  const BlockSystem& bs_;
+  GeometryBase next_;
+  std::vector<std::int64_t> offsets_;
+};
+
+// bs.geometry (checked by the caller), in the runs compute_geometry would have handed over.
+void write_geometry_group(const Group& root, const BlockSystem& bs) {
+  const Geometry& geo = *bs.geometry;
+  GeometryWriter w(root, bs);
+  for (std::size_t b0 = 0; b0 < bs.blocks.size(); b0 += kGeometryRun)
+    w.append(geo, b0, w.next().face, std::min(kGeometryRun, bs.blocks.size() - b0));
+  w.finish();
 }
 
 // "<out>.partial" created with its header and joint groups; `commit` closes and renames it.
@@ -1053,7 +1160,7 @@ void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& 
   check_blocks(Checker(out.string(), kNotWritten), bs);
   write_file(out, FileKind::blocks, prov, bs.joints, opt, [&](const Group& root) {
     write_blocks_group(root, bs);
-    if (bs.geometry) write_geometry_group(root, *bs.geometry);
+    if (bs.geometry) write_geometry_group(root, bs);
   });
 }
 
@@ -1062,7 +1169,47 @@ struct BlocksFileWriter::Impl {
   const BlockSystem& bs;
   std::string name;
   std::optional<OpenFile> file;
-  std::future<void> first;  // the header, joints and /blocks
+  std::future<void> writing;  // the header, joints, /blocks, then the runs of /geometry
+  std::mutex mutex;
+  std::condition_variable ready;
+  std::deque<Geometry> runs;  // given by the sink, not yet written
+  bool streamed = false;      // geometry_sink() was asked for
+  bool closed = false;        // no more runs will come
+  bool abandoned = false;     // destroyed unfinished: write no more
+
+  // The writing thread: /blocks, then each run as it comes, checked against its blocks.
+  void write() {
+    const Group& root = file->f.root();
+    write_blocks_group(root, bs);
+    std::optional<GeometryWriter> geo;
+    const Checker c(name, kNotWritten);
+    for (;;) {
+      Geometry run;
+      {
+        std::unique_lock lock(mutex);
+        ready.wait(lock, [&] { return !runs.empty() || closed; });
+        if (runs.empty()) break;
+        run = std::move(runs.front());
+        runs.pop_front();
+      }
+      if (!geo) geo.emplace(root, bs);
+      const std::size_t n = run.volume.size();
+      check_geometry(c, bs, run, geo->next(), n, vertex_tolerance(bs.joints, run.vertices));
+      geo->append(run, 0, 0, n);
+    }
+    if (abandoned) return;
+    if (streamed && !geo) geo.emplace(root, bs);  // no blocks: empty datasets
+    if (geo) geo->finish();
+    if (!streamed && bs.geometry) write_geometry_group(root, bs);  // checked by finish()
+  }
+
+  void close() {
+    {
+      std::lock_guard lock(mutex);
+      closed = true;
+    }
+    ready.notify_one();
+  }
 };
 
 BlocksFileWriter::BlocksFileWriter(const fs::path& out, const BlockSystem& bs,
@@ -1071,21 +1218,41 @@ BlocksFileWriter::BlocksFileWriter(const fs::path& out, const BlockSystem& bs,
   check_blocks(Checker(out.string(), kNotWritten), bs, false);
   // A bad output path fails here, before any work; the large /blocks group is written meanwhile.
   impl_->file.emplace(out, FileKind::blocks, prov, bs.joints, opt);
-  impl_->first =
-      std::async(std::launch::async, [&m = *impl_] { write_blocks_group(m.file->f.root(), m.bs); });
+  impl_->writing = std::async(std::launch::async, [&m = *impl_] { m.write(); });
 }
 
 BlocksFileWriter::~BlocksFileWriter() {
-  if (impl_->first.valid()) impl_->first.wait();
+  if (!impl_->writing.valid()) return;
+  {
+    // Unfinished: the runs not yet written are not wanted.
+    std::lock_guard lock(impl_->mutex);
+    impl_->runs.clear();
+    impl_->abandoned = true;
+  }
+  impl_->close();
+  impl_->writing.wait();
+}
+
+GeometrySink BlocksFileWriter::geometry_sink() {
+  {
+    std::lock_guard lock(impl_->mutex);
+    impl_->streamed = true;
+  }
+  return [&m = *impl_](std::size_t first, Geometry&& part) {
+    (void)first;  // runs come in block order: the writer counts the blocks
+    {
+      std::lock_guard lock(m.mutex);
+      m.runs.push_back(std::move(part));
+    }
+    m.ready.notify_one();
+  };
 }
 
 void BlocksFileWriter::finish() {
   Impl& m = *impl_;
-  m.first.get();
-  if (m.bs.geometry) {
-    check_geometry(Checker(m.name, kNotWritten), m.bs);
-    write_geometry_group(m.file->f.root(), *m.bs.geometry);
-  }
+  if (m.bs.geometry && !m.streamed) check_geometry(Checker(m.name, kNotWritten), m.bs);
+  m.close();
+  m.writing.get();
   m.file->commit();
 }
 

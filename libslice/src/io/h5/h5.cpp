@@ -262,25 +262,32 @@ void Group::remove_attribute(const std::string& name) const {
 
 namespace {
 
+// Rows per chunk of a compressed dataset: about 256 kB; shuffle groups the bytes of equal weight,
+// which deflate packs better (the figures in the README).
+hsize_t compressed_chunk_rows(hsize_t row_bytes) {
+  return std::max<hsize_t>(1, (256 << 10) / row_bytes);
+}
+
+// A dataset of `rows` rows, or (chunk_rows > 0) of none yet, growing by chunks of chunk_rows.
 template <class T>
 Handle create_dataset(hid_t loc, const std::string& name, const std::string& p, std::size_t rows,
-                      int rank, std::size_t cols, const Context& ctx) {
+                      int rank, std::size_t cols, const Context& ctx, std::size_t chunk_rows = 0) {
   SLICE_ASSERT(rank == 1 || cols > 0);
   const hsize_t dims[2] = {rows, rank == 1 ? 1 : cols};
-  Handle space = own(H5Screate_simple(rank, dims, nullptr), Handle::Type::dataspace, ctx,
+  const hsize_t max_dims[2] = {chunk_rows > 0 ? H5S_UNLIMITED : dims[0], dims[1]};
+  Handle space = own(H5Screate_simple(rank, dims, max_dims), Handle::Type::dataspace, ctx,
                      "cannot create the dataspace of " + p);
   Handle dcpl = own(H5Pcreate(H5P_DATASET_CREATE), Handle::Type::plist, ctx, "cannot create " + p);
   check(H5Pset_obj_track_times(dcpl.id(), false), ctx, "cannot create " + p);
   // Every element is written: no fill pass.
   check(H5Pset_fill_time(dcpl.id(), H5D_FILL_TIME_NEVER), ctx, "cannot create " + p);
-  if (ctx.compress && rows > 0) {
-    // Chunks of about 256 kB; shuffle groups the bytes of equal weight, which deflate packs
-    // better (the figures in the README).
-    const hsize_t row_bytes = dims[1] * sizeof(T);
-    const hsize_t chunk_rows =
-        std::max<hsize_t>(1, std::min<hsize_t>(rows, (256 << 10) / row_bytes));
+  if (chunk_rows == 0 && ctx.compress && rows > 0)
+    chunk_rows = std::min<hsize_t>(rows, compressed_chunk_rows(dims[1] * sizeof(T)));
+  if (chunk_rows > 0) {
     const hsize_t chunk[2] = {chunk_rows, dims[1]};
     check(H5Pset_chunk(dcpl.id(), rank, chunk), ctx, "cannot create " + p);
+  }
+  if (ctx.compress && chunk_rows > 0) {
     check(H5Pset_shuffle(dcpl.id()), ctx, "cannot create " + p);
     check(H5Pset_deflate(dcpl.id(), 4), ctx, "cannot create " + p);
   }
@@ -292,28 +299,57 @@ Handle create_dataset(hid_t loc, const std::string& name, const std::string& p, 
 }  // namespace
 
 template <class T>
-void RowWriter<T>::append(std::span<const T> data) {
+void RowWriter<T>::write_rows(const T* data, std::size_t rows) {
   const std::size_t width = rank_ == 1 ? 1 : cols_;
-  SLICE_ASSERT(data.size() % width == 0);
-  const std::size_t rows = data.size() / width;
-  SLICE_ASSERT(next_ + rows <= rows_);
-  if (rows == 0) return;
   const hsize_t start[2] = {next_, 0}, count[2] = {rows, width};
+  if (chunk_rows_ > 0) {
+    const hsize_t size[2] = {next_ + rows, width};
+    check(H5Dset_extent(ds_.id(), size), ctx_, "cannot write " + path_);
+  }
   Handle file_space =
       own(H5Dget_space(ds_.id()), Handle::Type::dataspace, ctx_, "cannot write " + path_);
   check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, count, nullptr), ctx_,
         "cannot write " + path_);
   Handle mem_space = own(H5Screate_simple(rank_, count, nullptr), Handle::Type::dataspace, ctx_,
                          "cannot write " + path_);
-  check(H5Dwrite(ds_.id(), Traits<T>::mem(), mem_space.id(), file_space.id(), H5P_DEFAULT,
-                 data.data()),
+  check(H5Dwrite(ds_.id(), Traits<T>::mem(), mem_space.id(), file_space.id(), H5P_DEFAULT, data),
         ctx_, "cannot write " + path_);
   next_ += rows;
 }
 
 template <class T>
+void RowWriter<T>::append(std::span<const T> data) {
+  const std::size_t width = rank_ == 1 ? 1 : cols_;
+  SLICE_ASSERT(data.size() % width == 0);
+  const std::size_t rows = data.size() / width;
+  if (chunk_rows_ == 0) {
+    SLICE_ASSERT(next_ + rows <= rows_);
+    if (rows > 0) write_rows(data.data(), rows);
+    return;
+  }
+  // Growing: whole chunks only, the pending rows first.
+  std::size_t used = 0;
+  if (!pending_.empty()) {
+    used = std::min(rows, chunk_rows_ - pending_.size() / width);
+    pending_.insert(pending_.end(), data.begin(), data.begin() + std::ptrdiff_t(used * width));
+    if (pending_.size() / width < chunk_rows_) return;
+    write_rows(pending_.data(), chunk_rows_);
+    pending_.clear();
+  }
+  const std::size_t whole = (rows - used) / chunk_rows_ * chunk_rows_;
+  if (whole > 0) write_rows(data.data() + used * width, whole);
+  pending_.assign(data.begin() + std::ptrdiff_t((used + whole) * width), data.end());
+}
+
+template <class T>
 void RowWriter<T>::finish() {
-  SLICE_ASSERT(next_ == rows_);
+  if (chunk_rows_ > 0) {
+    const std::size_t width = rank_ == 1 ? 1 : cols_;
+    if (!pending_.empty()) write_rows(pending_.data(), pending_.size() / width);
+    pending_ = {};
+  } else {
+    SLICE_ASSERT(next_ == rows_);
+  }
   if (!ds_.reset()) fail_h5(ctx_, "cannot write " + path_);
 }
 
@@ -322,6 +358,18 @@ RowWriter<T> Group::create_rows(const std::string& name, std::size_t rows, std::
   const int rank = cols == 0 ? 1 : 2;
   Handle ds = create_dataset<T>(handle_.id(), name, member_path(name), rows, rank, cols, ctx_);
   return RowWriter<T>(std::move(ds), rows, cols, rank, member_path(name), ctx_);
+}
+
+template <class T>
+RowWriter<T> Group::create_growing_rows(const std::string& name, std::size_t cols,
+                                        std::size_t expected_rows) const {
+  const int rank = cols == 0 ? 1 : 2;
+  const hsize_t row_bytes = (cols == 0 ? 1 : cols) * sizeof(T);
+  // Uncompressed chunks larger than HDF5's 1 MiB chunk cache go to the file directly.
+  const hsize_t most = ctx_.compress ? compressed_chunk_rows(row_bytes) : (4 << 20) / row_bytes;
+  const std::size_t chunk = std::max<hsize_t>(1, std::min<hsize_t>(expected_rows, most));
+  Handle ds = create_dataset<T>(handle_.id(), name, member_path(name), 0, rank, cols, ctx_, chunk);
+  return RowWriter<T>(std::move(ds), 0, cols, rank, member_path(name), ctx_, chunk);
 }
 
 namespace {
@@ -475,6 +523,8 @@ T Group::read_attribute(const std::string& name) const {
 #define SLICE_H5_DATASET(T)                                                                        \
   template class RowWriter<T>;                                                                     \
   template RowWriter<T> Group::create_rows<T>(const std::string&, std::size_t, std::size_t) const; \
+  template RowWriter<T> Group::create_growing_rows<T>(const std::string&, std::size_t,             \
+                                                      std::size_t) const;                          \
   template void Group::write<T>(const std::string&, std::span<const T>) const;                     \
   template void Group::write<T>(const std::string&, std::span<const T>, std::size_t) const;        \
   template std::vector<T> Group::read<T>(const std::string&) const;                                \

@@ -6,10 +6,9 @@
 // (h5io.cpp, tests that craft bad files) needs no HDF5 include path.
 //
 // Files are reproducible: no time stamps (obj_track_times off on every group and dataset),
-// contiguous storage and no filters (unless Context::compress), the library's default format
-// bounds. On disk, floats are
-// IEEE little-endian 64-bit, integers little-endian of the C++ type's width, strings fixed-length
-// null-terminated UTF-8.
+// contiguous storage (chunked where a dataset grows) and no filters (unless Context::compress),
+// the library's default format bounds. On disk, floats are IEEE little-endian 64-bit, integers
+// little-endian of the C++ type's width, strings fixed-length null-terminated UTF-8.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -55,29 +54,36 @@ class Handle {
   Type type_ = Type::file;
 };
 
-/// A dataset of known shape written in consecutive runs of rows (Group::create_rows), so that
-/// a writer never holds the whole of it. Every row must be written before finish().
+/// A dataset written in consecutive runs of rows, so that a writer never holds the whole of it:
+/// of known shape (Group::create_rows; every row must be written before finish()), or growing
+/// by whole chunks as rows come (Group::create_growing_rows).
 template <class T>
 class RowWriter {
  public:
-  /// Writes the next rows: data.size() must be a multiple of the columns.
+  /// Writes the next rows: data.size() must be a multiple of the columns. A growing dataset
+  /// keeps the rows short of a whole chunk until more come or finish().
   void append(std::span<const T> data);
-  /// Checks that every row was written and closes the dataset.
+  /// Checks that every row was written (writes a growing dataset's last rows) and closes it.
   void finish();
 
  private:
   friend class Group;
-  RowWriter(Handle ds, std::size_t rows, std::size_t cols, int rank, std::string path, Context ctx)
+  RowWriter(Handle ds, std::size_t rows, std::size_t cols, int rank, std::string path, Context ctx,
+            std::size_t chunk_rows = 0)
       : ds_(std::move(ds)),
         rows_(rows),
         cols_(cols),
         rank_(rank),
+        chunk_rows_(chunk_rows),
         path_(std::move(path)),
         ctx_(std::move(ctx)) {}
+  void write_rows(const T* data, std::size_t rows);
   Handle ds_;
   std::size_t rows_, cols_;
   int rank_;
+  std::size_t chunk_rows_;  // growing: rows per chunk; 0: known shape
   std::size_t next_ = 0;
+  std::vector<T> pending_;  // growing: rows short of a whole chunk
   std::string path_;
   Context ctx_;
 };
@@ -112,6 +118,13 @@ class Group {
   /// else (rows, cols).
   template <class T>
   RowWriter<T> create_rows(const std::string& name, std::size_t rows, std::size_t cols) const;
+  /// Creates a dataset of unknown length (chunked, extendible: 1-D if cols is 0) that grows by
+  /// whole chunks as RowWriter::append gives rows, its chunks sized for about `expected_rows`
+  /// rows (at most 4 MiB each, 256 kB if compressed). Chunks are written whole, in order, as rows
+  /// complete them.
+  template <class T>
+  RowWriter<T> create_growing_rows(const std::string& name, std::size_t cols,
+                                   std::size_t expected_rows) const;
   /// Reads a 1-D dataset, checking that it exists, has rank 1 and a type that converts to T
   /// without loss (float for double, an integer that fits for integers).
   template <class T>
