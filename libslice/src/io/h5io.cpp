@@ -565,9 +565,9 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
   }
 }
 
-// Written in runs of kWriteBatch blocks, each dataset by rows: the flat arrays of a million blocks
-// (about 310 MB at 1.0 m Table 3) are never held at once.
-constexpr std::size_t kWriteBatch = 1 << 16;
+// Written and read in runs of kBatch blocks, each dataset by rows: the flat arrays of a million
+// blocks (about 310 MB at 1.0 m Table 3) are never held at once.
+constexpr std::size_t kBatch = 1 << 16;
 
 void write_blocks_group(const Group& root, const BlockSystem& bs) {
   const std::size_t n = bs.blocks.size();
@@ -588,10 +588,10 @@ void write_blocks_group(const Group& root, const BlockSystem& bs) {
   std::vector<std::int64_t> off{0}, fj, cl;
   std::vector<std::uint8_t> fl;
   std::int64_t face_row = 0;
-  for (std::size_t b0 = 0; b0 < n; b0 += kWriteBatch) {
+  for (std::size_t b0 = 0; b0 < n; b0 += kBatch) {
     o.clear(), fn.clear(), fd.clear(), ir.clear(), bsph.clear(), fj.clear(), cl.clear(), fl.clear();
     if (b0 > 0) off.clear();
-    for (std::size_t i = b0; i < std::min(n, b0 + kWriteBatch); ++i) {
+    for (std::size_t i = b0; i < std::min(n, b0 + kBatch); ++i) {
       const Block& b = bs.blocks[i];
       o.insert(o.end(), b.origin.data(), b.origin.data() + 3);
       for (const Face& f : b.faces) {
@@ -629,6 +629,13 @@ std::span<const double> as_doubles(const std::vector<Row>& rows, std::size_t lo,
   return lo == hi ? std::span<const double>()
                   : std::span<const double>(reinterpret_cast<const double*>(rows.data() + lo),
                                             N * (hi - lo));
+}
+
+// The doubles of a vector of Vec3 or Inertia, to be read into.
+template <std::size_t N, class Row>
+double* as_doubles(std::vector<Row>& rows) {
+  static_assert(sizeof(Row) == N * sizeof(double), "rows must be N packed doubles");
+  return reinterpret_cast<double*>(rows.data());
 }
 
 // Writes /geometry run by run, in block order (write_blocks, BlocksFileWriter): the datasets are
@@ -1063,6 +1070,14 @@ JointSystem read_joint_groups(const Group& root) {
   return js;
 }
 
+// Rows [lo, hi) of a dataset into `buf`.
+template <class T>
+void read_run(const h5::RowReader<T>& r, std::size_t lo, std::size_t hi, std::size_t width,
+              std::vector<T>& buf) {
+  buf.resize((hi - lo) * width);
+  r.read(lo, hi - lo, buf.data());
+}
+
 std::vector<Block> read_blocks_group(const Group& root, bool& pruned) {
   const Group g = root.open_group("blocks");
   const auto pruned_value = g.read_attribute<std::int64_t>("pruned");
@@ -1070,38 +1085,57 @@ std::vector<Block> read_blocks_group(const Group& root, bool& pruned) {
     fail(g, "/blocks attribute pruned is " + str(pruned_value) + "; expected 0 or 1");
   pruned = pruned_value == 1;
 
-  const auto origin = g.read<double>("origin", 3);
-  const std::size_t n = origin.size() / 3;
+  const auto origin = g.open_rows<double>("origin", 3);
+  const std::size_t n = origin.rows();
   const std::string because = "the rows of /blocks/origin";
   const auto offset = g.read<std::int64_t>("face_offset");
-  const auto face_normal = g.read<double>("face_normal", 3);
-  const std::size_t faces = face_normal.size() / 3;
+  const auto face_normal = g.open_rows<double>("face_normal", 3);
+  const std::size_t faces = face_normal.rows();
   check_offsets(g, "face_offset", offset, n, "blocks", faces, "/blocks/face_normal");
   const std::string face_because = "the rows of /blocks/face_normal";
-  const auto face_d = g.read<double>("face_d");
-  expect_rows(g, "face_d", face_d.size(), faces, face_because);
-  const auto face_joint = g.read<std::int64_t>("face_joint");
-  expect_rows(g, "face_joint", face_joint.size(), faces, face_because);
-  const auto inradius = g.read<double>("inradius");
-  expect_rows(g, "inradius", inradius.size(), n, because);
-  const auto bsphere = g.read<double>("bsphere", 4);
-  expect_rows(g, "bsphere", bsphere.size() / 4, n, because);
-  const auto flags = g.read<std::uint8_t>("flags");
-  expect_rows(g, "flags", flags.size(), n, because);
-  const auto cluster = g.read<std::int64_t>("cluster");
-  expect_rows(g, "cluster", cluster.size(), n, because);
+  const auto face_d = g.open_rows<double>("face_d", 0);
+  expect_rows(g, "face_d", face_d.rows(), faces, face_because);
+  const auto face_joint = g.open_rows<std::int64_t>("face_joint", 0);
+  expect_rows(g, "face_joint", face_joint.rows(), faces, face_because);
+  const auto inradius = g.open_rows<double>("inradius", 0);
+  expect_rows(g, "inradius", inradius.rows(), n, because);
+  const auto bsphere = g.open_rows<double>("bsphere", 4);
+  expect_rows(g, "bsphere", bsphere.rows(), n, because);
+  const auto flags = g.open_rows<std::uint8_t>("flags", 0);
+  expect_rows(g, "flags", flags.rows(), n, because);
+  const auto cluster = g.open_rows<std::int64_t>("cluster", 0);
+  expect_rows(g, "cluster", cluster.rows(), n, because);
 
+  // In runs of kBatch blocks: the flat arrays are never held whole.
   std::vector<Block> blocks(n);
-  for (std::size_t b = 0; b < n; ++b) {
-    Block& blk = blocks[b];
-    blk.origin = vec3(origin, b);
-    for (auto k = static_cast<std::size_t>(offset[b]); k < static_cast<std::size_t>(offset[b + 1]);
-         ++k)
-      blk.faces.push_back({vec3(face_normal, k), face_d[k], face_joint[k]});
-    blk.inradius = inradius[b];
-    blk.bsphere = {bsphere[4 * b], bsphere[4 * b + 1], bsphere[4 * b + 2], bsphere[4 * b + 3]};
-    blk.flags = flags[b];
-    blk.cluster = cluster[b];
+  std::vector<double> o, fn, fd, ir, bsph;
+  std::vector<std::int64_t> fj, cl;
+  std::vector<std::uint8_t> fl;
+  for (std::size_t b0 = 0; b0 < n; b0 += kBatch) {
+    const std::size_t b1 = std::min(n, b0 + kBatch);
+    const auto f0 = static_cast<std::size_t>(offset[b0]);
+    const auto f1 = static_cast<std::size_t>(offset[b1]);
+    read_run(origin, b0, b1, 3, o);
+    read_run(face_normal, f0, f1, 3, fn);
+    read_run(face_d, f0, f1, 1, fd);
+    read_run(face_joint, f0, f1, 1, fj);
+    read_run(inradius, b0, b1, 1, ir);
+    read_run(bsphere, b0, b1, 4, bsph);
+    read_run(flags, b0, b1, 1, fl);
+    read_run(cluster, b0, b1, 1, cl);
+    for (std::size_t b = b0; b < b1; ++b) {
+      Block& blk = blocks[b];
+      const std::size_t i = b - b0;
+      blk.origin = vec3(o, i);
+      const auto k0 = static_cast<std::size_t>(offset[b]) - f0;
+      const auto k1 = static_cast<std::size_t>(offset[b + 1]) - f0;
+      blk.faces.reserve(k1 - k0);
+      for (std::size_t k = k0; k < k1; ++k) blk.faces.push_back({vec3(fn, k), fd[k], fj[k]});
+      blk.inradius = ir[i];
+      blk.bsphere = {bsph[4 * i], bsph[4 * i + 1], bsph[4 * i + 2], bsph[4 * i + 3]};
+      blk.flags = fl[i];
+      blk.cluster = cl[i];
+    }
   }
   return blocks;
 }
@@ -1117,8 +1151,8 @@ Geometry read_geometry_group(const Group& root, const std::vector<Block>& blocks
   const std::string per_face = "the rows of /blocks/face_normal";
   Geometry geo;
   geo.vertex_offset = g.read<std::int64_t>("vertex_offset");
-  const auto vertices = g.read<double>("vertices", 3);
-  check_offsets(g, "vertex_offset", geo.vertex_offset, n, "blocks", vertices.size() / 3,
+  const auto vertices = g.open_rows<double>("vertices", 3);
+  check_offsets(g, "vertex_offset", geo.vertex_offset, n, "blocks", vertices.rows(),
                 "/geometry/vertices");
   geo.face_vertex_offset = g.read<std::int64_t>("face_vertex_offset");
   geo.face_vertices = g.read<std::int64_t>("face_vertices");
@@ -1126,22 +1160,21 @@ Geometry read_geometry_group(const Group& root, const std::vector<Block>& blocks
                 geo.face_vertices.size(), "/geometry/face_vertices");
   geo.volume = g.read<double>("volume");
   expect_rows(g, "volume", geo.volume.size(), n, per_block);
-  const auto centroid = g.read<double>("centroid", 3);
-  expect_rows(g, "centroid", centroid.size() / 3, n, per_block);
-  const auto inertia = g.read<double>("inertia", 6);
-  expect_rows(g, "inertia", inertia.size() / 6, n, per_block);
+  const auto centroid = g.open_rows<double>("centroid", 3);
+  expect_rows(g, "centroid", centroid.rows(), n, per_block);
+  const auto inertia = g.open_rows<double>("inertia", 6);
+  expect_rows(g, "inertia", inertia.rows(), n, per_block);
   geo.face_area = g.read<double>("face_area");
   expect_rows(g, "face_area", geo.face_area.size(), faces, per_face);
   geo.face_joint_fraction = g.read<double>("face_joint_fraction");
   expect_rows(g, "face_joint_fraction", geo.face_joint_fraction.size(), faces, per_face);
-  geo.vertices.reserve(vertices.size() / 3);
-  for (std::size_t v = 0; v < vertices.size() / 3; ++v) geo.vertices.push_back(vec3(vertices, v));
-  for (std::size_t b = 0; b < n; ++b) {
-    geo.centroid.push_back(vec3(centroid, b));
-    Inertia in{};
-    std::copy_n(inertia.begin() + std::ptrdiff_t(6 * b), 6, in.begin());
-    geo.inertia.push_back(in);
-  }
+  // Read into the rows of Vec3 and Inertia themselves: packed doubles (as_doubles).
+  geo.vertices.resize(vertices.rows());
+  vertices.read(0, vertices.rows(), as_doubles<3>(geo.vertices));
+  geo.centroid.resize(n);
+  centroid.read(0, n, as_doubles<3>(geo.centroid));
+  geo.inertia.resize(n);
+  inertia.read(0, n, as_doubles<6>(geo.inertia));
   return geo;
 }
 

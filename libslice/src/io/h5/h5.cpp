@@ -416,11 +416,18 @@ std::size_t checked_size(hid_t ds, hid_t type, int rank, const hsize_t* dims, co
   return std::size_t(count);
 }
 
+struct OpenedDataset {
+  Handle ds;
+  std::size_t rows;
+  std::string path;
+};
+
+// Opens a dataset for reading, checking its type, its shape and that the file holds its bytes.
 template <class T>
-std::vector<T> read_dataset(const Group& g, hid_t loc, const std::string& name, int rank,
-                            std::size_t cols) {
+OpenedDataset open_dataset(const Group& g, hid_t loc, const std::string& name, int rank,
+                           std::size_t cols) {
   const Context& ctx = g.context();
-  const std::string p = g.member_path(name);
+  std::string p = g.member_path(name);
   if (!g.exists(name)) fail(ctx, "missing dataset " + p);
   Handle ds = own(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), Handle::Type::dataset, ctx,
                   "cannot open " + p + " as a dataset");
@@ -435,10 +442,45 @@ std::vector<T> read_dataset(const Group& g, hid_t loc, const std::string& name, 
     fail(ctx, p + " has shape " + shape_string(nd, dims) + "; expected " +
                   (rank == 1 ? std::string("(n)") : "(n, " + std::to_string(cols) + ")"));
   const std::size_t n = checked_size(ds.id(), type.id(), nd, dims, p, ctx);
-  std::vector<T> v(n);
-  if (!v.empty())
-    check(H5Dread(ds.id(), Traits<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), ctx,
-          "cannot read " + p);
+  return {std::move(ds), rank == 1 ? n : n / cols, std::move(p)};
+}
+
+}  // namespace
+
+template <class T>
+void RowReader<T>::read(std::size_t first, std::size_t count, T* out) const {
+  SLICE_ASSERT(first + count <= rows_);
+  if (count == 0) return;
+  if (first == 0 && count == rows_) {
+    check(H5Dread(ds_.id(), Traits<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, out), ctx_,
+          "cannot read " + path_);
+    return;
+  }
+  const hsize_t start[2] = {first, 0}, rows[2] = {count, rank_ == 1 ? 1 : cols_};
+  Handle file_space =
+      own(H5Dget_space(ds_.id()), Handle::Type::dataspace, ctx_, "cannot read " + path_);
+  check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, rows, nullptr), ctx_,
+        "cannot read " + path_);
+  Handle mem_space = own(H5Screate_simple(rank_, rows, nullptr), Handle::Type::dataspace, ctx_,
+                         "cannot read " + path_);
+  check(H5Dread(ds_.id(), Traits<T>::mem(), mem_space.id(), file_space.id(), H5P_DEFAULT, out),
+        ctx_, "cannot read " + path_);
+}
+
+template <class T>
+RowReader<T> Group::open_rows(const std::string& name, std::size_t cols) const {
+  const int rank = cols == 0 ? 1 : 2;
+  OpenedDataset d = open_dataset<T>(*this, handle_.id(), name, rank, cols);
+  return RowReader<T>(std::move(d.ds), d.rows, cols, rank, std::move(d.path), ctx_);
+}
+
+namespace {
+
+template <class T>
+std::vector<T> read_dataset(const Group& g, const std::string& name, std::size_t cols) {
+  const RowReader<T> r = g.open_rows<T>(name, cols);
+  std::vector<T> v(r.rows() * (cols == 0 ? 1 : cols));
+  r.read(0, r.rows(), v.data());
   return v;
 }
 
@@ -457,12 +499,13 @@ void Group::write(const std::string& name, std::span<const T> data, std::size_t 
 
 template <class T>
 std::vector<T> Group::read(const std::string& name) const {
-  return read_dataset<T>(*this, handle_.id(), name, 1, 0);
+  return read_dataset<T>(*this, name, 0);
 }
 
 template <class T>
 std::vector<T> Group::read(const std::string& name, std::size_t cols) const {
-  return read_dataset<T>(*this, handle_.id(), name, 2, cols);
+  SLICE_ASSERT(cols > 0);
+  return read_dataset<T>(*this, name, cols);
 }
 
 template <class T>
@@ -522,6 +565,8 @@ T Group::read_attribute(const std::string& name) const {
 
 #define SLICE_H5_DATASET(T)                                                                        \
   template class RowWriter<T>;                                                                     \
+  template class RowReader<T>;                                                                     \
+  template RowReader<T> Group::open_rows<T>(const std::string&, std::size_t) const;                \
   template RowWriter<T> Group::create_rows<T>(const std::string&, std::size_t, std::size_t) const; \
   template RowWriter<T> Group::create_growing_rows<T>(const std::string&, std::size_t,             \
                                                       std::size_t) const;                          \

@@ -88,6 +88,31 @@ class RowWriter {
   Context ctx_;
 };
 
+/// A dataset read in runs of rows (Group::open_rows), into the caller's memory: a reader need
+/// not hold a copy of the whole of it. Its type, shape and stored size are checked on opening.
+template <class T>
+class RowReader {
+ public:
+  std::size_t rows() const { return rows_; }
+  /// Reads rows [first, first + count) into `out` (count times the columns of T).
+  void read(std::size_t first, std::size_t count, T* out) const;
+
+ private:
+  friend class Group;
+  RowReader(Handle ds, std::size_t rows, std::size_t cols, int rank, std::string path, Context ctx)
+      : ds_(std::move(ds)),
+        rows_(rows),
+        cols_(cols),
+        rank_(rank),
+        path_(std::move(path)),
+        ctx_(std::move(ctx)) {}
+  Handle ds_;
+  std::size_t rows_, cols_;
+  int rank_;
+  std::string path_;
+  Context ctx_;
+};
+
 /// A group (or the root group of a file). Member names are relative ("normal"); messages use
 /// full paths ("/joints/normal").
 class Group {
@@ -132,6 +157,10 @@ class Group {
   /// Reads a 2-D dataset that must have `cols` columns; rows = size() / cols.
   template <class T>
   std::vector<T> read(const std::string& name, std::size_t cols) const;
+  /// Opens a dataset to be read by RowReader::read, with the checks of read(): 1-D if cols is
+  /// 0, else (rows, cols).
+  template <class T>
+  RowReader<T> open_rows(const std::string& name, std::size_t cols) const;
 
   /// Scalar attributes. T: std::string, std::int64_t, std::uint64_t, double. Writing an
   /// attribute that exists is an error (remove it first); a string must not contain '\0'.
