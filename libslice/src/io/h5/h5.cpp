@@ -298,21 +298,35 @@ Handle create_dataset(hid_t loc, const std::string& name, const std::string& p, 
 
 }  // namespace
 
+namespace {
+
+// Rows [first, first + count) of a dataset in its file space, and memory for them.
+struct RowSelection {
+  Handle file, memory;
+};
+RowSelection select_rows(const Handle& ds, std::size_t first, std::size_t count, int rank,
+                         std::size_t width, const Context& ctx, const std::string& what) {
+  const hsize_t start[2] = {first, 0}, rows[2] = {count, width};
+  RowSelection sel;
+  sel.file = own(H5Dget_space(ds.id()), Handle::Type::dataspace, ctx, what);
+  check(H5Sselect_hyperslab(sel.file.id(), H5S_SELECT_SET, start, nullptr, rows, nullptr), ctx,
+        what);
+  sel.memory = own(H5Screate_simple(rank, rows, nullptr), Handle::Type::dataspace, ctx, what);
+  return sel;
+}
+
+}  // namespace
+
 template <class T>
 void RowWriter<T>::write_rows(const T* data, std::size_t rows) {
   const std::size_t width = rank_ == 1 ? 1 : cols_;
-  const hsize_t start[2] = {next_, 0}, count[2] = {rows, width};
   if (chunk_rows_ > 0) {
     const hsize_t size[2] = {next_ + rows, width};
     check(H5Dset_extent(ds_.id(), size), ctx_, "cannot write " + path_);
   }
-  Handle file_space =
-      own(H5Dget_space(ds_.id()), Handle::Type::dataspace, ctx_, "cannot write " + path_);
-  check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, count, nullptr), ctx_,
-        "cannot write " + path_);
-  Handle mem_space = own(H5Screate_simple(rank_, count, nullptr), Handle::Type::dataspace, ctx_,
-                         "cannot write " + path_);
-  check(H5Dwrite(ds_.id(), Traits<T>::mem(), mem_space.id(), file_space.id(), H5P_DEFAULT, data),
+  const RowSelection sel =
+      select_rows(ds_, next_, rows, rank_, width, ctx_, "cannot write " + path_);
+  check(H5Dwrite(ds_.id(), Traits<T>::mem(), sel.memory.id(), sel.file.id(), H5P_DEFAULT, data),
         ctx_, "cannot write " + path_);
   next_ += rows;
 }
@@ -456,15 +470,10 @@ void RowReader<T>::read(std::size_t first, std::size_t count, T* out) const {
           "cannot read " + path_);
     return;
   }
-  const hsize_t start[2] = {first, 0}, rows[2] = {count, rank_ == 1 ? 1 : cols_};
-  Handle file_space =
-      own(H5Dget_space(ds_.id()), Handle::Type::dataspace, ctx_, "cannot read " + path_);
-  check(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, rows, nullptr), ctx_,
+  const RowSelection sel =
+      select_rows(ds_, first, count, rank_, rank_ == 1 ? 1 : cols_, ctx_, "cannot read " + path_);
+  check(H5Dread(ds_.id(), Traits<T>::mem(), sel.memory.id(), sel.file.id(), H5P_DEFAULT, out), ctx_,
         "cannot read " + path_);
-  Handle mem_space = own(H5Screate_simple(rank_, rows, nullptr), Handle::Type::dataspace, ctx_,
-                         "cannot read " + path_);
-  check(H5Dread(ds_.id(), Traits<T>::mem(), mem_space.id(), file_space.id(), H5P_DEFAULT, out),
-        ctx_, "cannot read " + path_);
 }
 
 template <class T>
