@@ -10,7 +10,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 rows = list(csv.DictReader(open(sys.argv[1])))
-fig, ax = plt.subplots(figsize=(7.5, 4.2))
+fig, ax = plt.subplots(figsize=(9, 4.2))
 labels, full, rerun = [], [], []
 for r in rows:
     labels.append("%s blocks/seed\n--cores %s" % (format(int(r["blocks_per_seed"]), ","), r["cores"]))
