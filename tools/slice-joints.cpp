@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
     std::size_t persistent = 0;
     for (const auto& j : js.joints) persistent += j.persistent() ? 1 : 0;
     t.say(std::to_string(js.joints.size()) + " joints (" + std::to_string(persistent) +
-          " persistent, " + std::to_string(js.joints.size() - persistent) + " polygons) in " +
+          " persistent, " + std::to_string(js.joints.size() - persistent) +
+          (js.dimension == 2 ? " segments) in " : " polygons) in ") +
           std::to_string(js.sets.size()) + " sets, seed " + std::to_string(js.seed) + " -> " + out);
   });
 }

@@ -92,6 +92,16 @@ TEST_CASE("Fig. 23 (Kim et al.'s pattern) through the tools", "[tools][section]"
   std::size_t thin = 0;
   for (const auto& blk : segments.blocks.blocks) thin += 2 * blk.inradius < 0.4 ? 1 : 0;
   CHECK(thin > 0);  // the limit had something to do
+
+  // slice-joints counts a section's finite joints as segments (stored as rectangles).
+  const auto joints = test::run_tool(
+      "slice-joints",
+      {test::data_path("kim-nonpersistent.toml").string(), "-o", (b.path() / "again.h5").string()});
+  CHECK(joints.exit_code == 0);
+  CHECK_THAT(
+      joints.err,
+      Catch::Contains(std::to_string(segments.joints.joints.size()) + " joints (0 persistent, " +
+                      std::to_string(segments.joints.joints.size()) + " segments)"));
 }
 
 TEST_CASE("Fig. 24 (a slope section built the Vajont way) through the tools", "[tools][section]") {
