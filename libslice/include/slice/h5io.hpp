@@ -83,7 +83,9 @@ class BlocksFileWriter {
   BlocksFileWriter(const BlocksFileWriter&) = delete;
   BlocksFileWriter& operator=(const BlocksFileWriter&) = delete;
   /// Takes the runs of /geometry in block order (kGeometryRun blocks each, as compute_geometry
-  /// hands them over) and queues them for the writing thread; cheap, never blocks on the file.
+  /// hands them over) and queues them for the writing thread, waiting only while the runs not
+  /// yet taken hold more than 256 MiB (deflate, --compress, is slower than the geometry). Once
+  /// the thread has stopped on an error, runs are dropped and finish() throws that error.
   GeometrySink geometry_sink();
   void finish();
 

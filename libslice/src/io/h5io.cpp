@@ -1197,6 +1197,21 @@ void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& 
   });
 }
 
+// The bytes of a run's arrays.
+std::size_t run_bytes(const Geometry& g) {
+  return g.vertices.size() * sizeof(Vec3) + g.centroid.size() * sizeof(Vec3) +
+         g.inertia.size() * sizeof(Inertia) +
+         (g.vertex_offset.size() + g.face_vertex_offset.size() + g.face_vertices.size()) *
+             sizeof(std::int64_t) +
+         (g.volume.size() + g.face_area.size() + g.face_joint_fraction.size()) * sizeof(double);
+}
+
+// The runs of /geometry the writing thread has not taken yet hold at most this many bytes (or
+// one run): a sink that would pass it waits. Uncompressed, the thread keeps up once /blocks is
+// written (about 7 runs of Table 3 at 1.0 m queue meanwhile); deflate is slower than the
+// geometry, and without a bound the whole of it would wait in memory.
+constexpr std::size_t kQueuedBytes = std::size_t(256) << 20;
+
 struct BlocksFileWriter::Impl {
   Impl(const BlockSystem& b, std::string n) : bs(b), name(std::move(n)) {}
   const BlockSystem& bs;
@@ -1204,14 +1219,27 @@ struct BlocksFileWriter::Impl {
   std::optional<OpenFile> file;
   std::future<void> writing;  // the header, joints, /blocks, then the runs of /geometry
   std::mutex mutex;
-  std::condition_variable ready;
-  std::deque<Geometry> runs;  // given by the sink, not yet written
-  bool streamed = false;      // geometry_sink() was asked for
-  bool closed = false;        // no more runs will come
-  bool abandoned = false;     // destroyed unfinished: write no more
+  std::condition_variable ready;  // a run came, or no more will
+  std::condition_variable taken;  // the writing thread took a run, or stopped
+  std::deque<Geometry> runs;      // given by the sink, not yet taken
+  std::size_t queued_bytes = 0;   // their run_bytes
+  bool streamed = false;          // geometry_sink() was asked for
+  bool closed = false;            // no more runs will come
+  bool abandoned = false;         // destroyed unfinished: write no more
+  bool stopped = false;           // the writing thread ended (its error, if any, in `writing`)
 
   // The writing thread: /blocks, then each run as it comes, checked against its blocks.
   void write() {
+    try {
+      write_all();
+    } catch (...) {
+      stop();
+      throw;
+    }
+    stop();
+  }
+
+  void write_all() {
     const Group& root = file->f.root();
     write_blocks_group(root, bs);
     std::optional<GeometryWriter> geo;
@@ -1224,7 +1252,9 @@ struct BlocksFileWriter::Impl {
         if (runs.empty()) break;
         run = std::move(runs.front());
         runs.pop_front();
+        queued_bytes -= run_bytes(run);
       }
+      taken.notify_one();
       if (!geo) geo.emplace(root, bs);
       const std::size_t n = run.volume.size();
       check_geometry(c, bs, run, geo->next(), n, vertex_tolerance(bs.joints, run.vertices));
@@ -1234,6 +1264,31 @@ struct BlocksFileWriter::Impl {
     if (streamed && !geo) geo.emplace(root, bs);  // no blocks: empty datasets
     if (geo) geo->finish();
     if (!streamed && bs.geometry) write_geometry_group(root, bs);  // checked by finish()
+  }
+
+  // Queues a run, waiting while the queue is full; drops it once the thread has stopped.
+  void give(Geometry&& run) {
+    const std::size_t bytes = run_bytes(run);
+    {
+      std::unique_lock lock(mutex);
+      taken.wait(lock, [&] {
+        return stopped || abandoned || queued_bytes == 0 || queued_bytes + bytes <= kQueuedBytes;
+      });
+      if (stopped || abandoned) return;
+      runs.push_back(std::move(run));
+      queued_bytes += bytes;
+    }
+    ready.notify_one();
+  }
+
+  void stop() {
+    {
+      std::lock_guard lock(mutex);
+      stopped = true;
+      runs.clear();
+      queued_bytes = 0;
+    }
+    taken.notify_all();
   }
 
   void close() {
@@ -1260,8 +1315,10 @@ BlocksFileWriter::~BlocksFileWriter() {
     // Unfinished: the runs not yet written are not wanted.
     std::lock_guard lock(impl_->mutex);
     impl_->runs.clear();
+    impl_->queued_bytes = 0;
     impl_->abandoned = true;
   }
+  impl_->taken.notify_all();
   impl_->close();
   impl_->writing.wait();
 }
@@ -1273,11 +1330,7 @@ GeometrySink BlocksFileWriter::geometry_sink() {
   }
   return [&m = *impl_](std::size_t first, Geometry&& part) {
     (void)first;  // runs come in block order: the writer counts the blocks
-    {
-      std::lock_guard lock(m.mutex);
-      m.runs.push_back(std::move(part));
-    }
-    m.ready.notify_one();
+    m.give(std::move(part));
   };
 }
 
