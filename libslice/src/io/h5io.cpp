@@ -247,6 +247,13 @@ double vertex_tolerance(const JointSystem& js, const std::vector<Vec3>& vertices
   return 2 * tol.geometry + 8 * std::numeric_limits<double>::epsilon() * coord;
 }
 
+// The faces of some blocks: the rows they take in /blocks/face_normal and the per-face datasets.
+std::size_t face_count(std::span<const Block> blocks) {
+  std::size_t faces = 0;
+  for (const Block& b : blocks) faces += b.faces.size();
+  return faces;
+}
+
 // Where the geometry of a run of blocks starts in /geometry (its rows and offsets there): a
 // Geometry of a run counts from 0, messages name the file's rows.
 struct GeometryBase {
@@ -291,8 +298,7 @@ void check_vertices_on_faces(const Checker& c, const Geometry& g, const Block& b
 void check_geometry(const Checker& c, const BlockSystem& bs, const Geometry& g,
                     const GeometryBase& base, std::size_t n, double tol) {
   SLICE_ASSERT(base.block + n <= bs.blocks.size());
-  std::size_t faces = 0;
-  for (std::size_t b = 0; b < n; ++b) faces += bs.blocks[base.block + b].faces.size();
+  const std::size_t faces = face_count(std::span(bs.blocks).subspan(base.block, n));
   const auto rows = [&](const std::string& name, std::size_t got, std::size_t want,
                         const std::string& because) {
     if (got != want)
@@ -571,8 +577,7 @@ constexpr std::size_t kBatch = 1 << 16;
 
 void write_blocks_group(const Group& root, const BlockSystem& bs) {
   const std::size_t n = bs.blocks.size();
-  std::size_t faces = 0;
-  for (const Block& b : bs.blocks) faces += b.faces.size();
+  const std::size_t faces = face_count(bs.blocks);
   const Group g = root.create_group("blocks");
   g.write_attribute<std::int64_t>("pruned", bs.pruned ? 1 : 0);
   auto origin = g.create_rows<double>("origin", n, 3);
@@ -647,7 +652,7 @@ class GeometryWriter {
  public:
   GeometryWriter(const Group& root, const BlockSystem& bs)
       : g_(root.create_group("geometry")),
-        faces_(count_faces(bs)),
+        faces_(face_count(bs.blocks)),
         vertex_offset_(g_.create_rows<std::int64_t>("vertex_offset", bs.blocks.size() + 1, 0)),
         // A polyhedron has at most 2F - 4 vertices and 2 (3F - 6) loop entries; a polygon F and 2F.
         vertices_(g_.create_growing_rows<double>("vertices", 3,
@@ -672,8 +677,7 @@ class GeometryWriter {
   /// Appends n blocks of `geo`, from its block `first` whose first face is its face row
   /// `first_face`: a whole geometry, or (0, 0) a run of its own.
   void append(const Geometry& geo, std::size_t first, std::size_t first_face, std::size_t n) {
-    std::size_t faces = 0;
-    for (std::size_t b = next_.block; b < next_.block + n; ++b) faces += bs_.blocks[b].faces.size();
+    const std::size_t faces = face_count(std::span(bs_.blocks).subspan(next_.block, n));
     const std::size_t v0 = std::size_t(geo.vertex_offset[first]);
     const std::size_t v1 = std::size_t(geo.vertex_offset[first + n]);
     const std::size_t fv0 = std::size_t(geo.face_vertex_offset[first_face]);
@@ -710,11 +714,6 @@ class GeometryWriter {
   }
 
  private:
-  static std::size_t count_faces(const BlockSystem& bs) {
-    std::size_t faces = 0;
-    for (const Block& b : bs.blocks) faces += b.faces.size();
-    return faces;
-  }
   Group g_;
   std::size_t faces_;
   RowWriter<std::int64_t> vertex_offset_;
@@ -1145,8 +1144,7 @@ std::vector<Block> read_blocks_group(const Group& root, bool& pruned) {
 Geometry read_geometry_group(const Group& root, const std::vector<Block>& blocks) {
   const Group g = root.open_group("geometry");
   const std::size_t n = blocks.size();
-  std::size_t faces = 0;
-  for (const Block& b : blocks) faces += b.faces.size();
+  const std::size_t faces = face_count(blocks);
   const std::string per_block = "the rows of /blocks/origin";
   const std::string per_face = "the rows of /blocks/face_normal";
   Geometry geo;
