@@ -217,21 +217,24 @@ struct JointPieces {
   std::size_t skipped = 0;
 };
 
-/// The domain's box (its vertices' bounding box); a section's as its unit-thickness slab.
-PolytopeInfo joint_domain(const std::filesystem::path& out, const JointSystem& js, double tol) {
-  PolytopeInfo dom = analyse_polytope(solid_region(js.domain, js.dimension), tol);
+/// Where a persistent joint is drawn: the centre of the domain's box (its vertices' bounding box;
+/// a section's as its unit-thickness slab) and a half size that covers the whole domain.
+struct JointCanvas {
+  Vec3 centre;
+  double half;
+};
+JointCanvas joint_canvas(const std::filesystem::path& out, const JointSystem& js, double tol) {
+  const PolytopeInfo dom = analyse_polytope(solid_region(js.domain, js.dimension), tol);
   if (!dom.bounded || !dom.has_interior)
     throw Error(out.string(), "the domain is empty or unbounded",
                 "regenerate it with slice-joints");
-  return dom;
+  return {(dom.min + dom.max) / 2, 2 * ((dom.max - dom.min).norm() / 2 + tol)};
 }
 
 /// 3-D: polygons (a persistent joint: a square of its plane around the domain's centre, larger
 /// than the domain, clipped).
 JointPieces joint_polygons(const std::filesystem::path& out, const JointSystem& js, double tol) {
-  const PolytopeInfo dom = joint_domain(out, js, tol);
-  const Vec3 centre = (dom.min + dom.max) / 2;
-  const double half = 2 * ((dom.max - dom.min).norm() / 2 + tol);  // covers the whole domain
+  const auto [centre, half] = joint_canvas(out, js, tol);
   JointPieces pieces;
   for (std::size_t j = 0; j < js.joints.size(); ++j) {
     const Joint& jt = js.joints[j];
@@ -261,9 +264,7 @@ JointPieces joint_polygons(const std::filesystem::path& out, const JointSystem& 
 /// clipped to the domain. The domain has no faces normal to y: for analyse_polytope, which needs
 /// a bounded region, it is closed by y = +-0.5 (the section's unit thickness).
 JointPieces joint_segments(const std::filesystem::path& out, const JointSystem& js, double tol) {
-  const PolytopeInfo dom = joint_domain(out, js, tol);
-  const Vec3 centre = (dom.min + dom.max) / 2;
-  const double half = 2 * ((dom.max - dom.min).norm() / 2 + tol);  // covers the whole domain
+  const auto [centre, half] = joint_canvas(out, js, tol);
   JointPieces pieces;
   for (std::size_t j = 0; j < js.joints.size(); ++j) {
     const Joint& jt = js.joints[j];
