@@ -9,7 +9,10 @@
 #     a missing blocks.vtu, a file that is no VTU and a missing output folder: each exits 1
 #     with exactly one line on stderr that names the file, and leaves no picture.
 set -uo pipefail
-(($# == 4)) || { echo "usage: render_test.sh concurrent|bad-input TOOLS_DIR SOURCE_DIR BUILD_DIR" >&2; exit 2; }
+if (($# != 4)); then
+  echo "usage: render_test.sh concurrent|bad-input TOOLS_DIR SOURCE_DIR BUILD_DIR" >&2
+  exit 2
+fi
 mode=$1 tools=$2 source=$3
 export SLICE_BUILD_DIR=$4  # where pipelines/setup unpacked pvpython
 render=$source/pipelines/render
