@@ -4,6 +4,7 @@
 // report is the one the YADE script sets in YADE; the open joint area (P32) each set keeps.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
@@ -105,6 +106,17 @@ TEST_CASE("no free sliver in the examples and the bench slope and the volumes ad
     CHECK(2 * b.inradius >= dmin - 1e-9 * L);
   }
   CHECK(free_blocks > 0);
+  // Nor a cluster of slivers only: the smallest body of the model, as a free sliver would be.
+  std::map<std::int64_t, bool> all_thin;
+  for (const auto& b : bs.blocks)
+    if (!(b.flags & slice::kRemoved) && b.cluster >= 0) {
+      const bool thin = 2 * b.inradius < dmin - 1e-9 * L;
+      all_thin.emplace(b.cluster, true).first->second &= thin;
+    }
+  for (const auto& [cluster, thin] : all_thin) {
+    CAPTURE(cluster);
+    CHECK_FALSE(thin);
+  }
   CHECK_THAT(volume, WithinRel(test::domain_volume(bs.joints), 1e-9));
 }
 

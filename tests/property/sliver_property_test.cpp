@@ -3,6 +3,7 @@
 // it, no kept block in no cluster breaks the size limit; the volumes still add up to the domain;
 // and every block removed though its centre is in no zone lies within the minimum size of one.
 #include <catch2/catch.hpp>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -122,6 +123,17 @@ TEST_CASE("random excavations leave no free sliver and lose no volume",
     }
   }
   CHECK(zone_removed > 0);
+  // Nor a cluster of slivers only (the exact Chebyshev balls again).
+  std::map<std::int64_t, bool> all_thin;
+  for (const auto& b : blocks)
+    if (!(b.flags & slice::kRemoved) && b.cluster >= 0) {
+      const slice::ChebyshevBall c = slice::chebyshev_ball(*exact, b.faces, tol);
+      all_thin.emplace(b.cluster, true).first->second &= 2 * c.radius < rs.min_diameter - 1e-9 * L;
+    }
+  for (const auto& [cluster, thin] : all_thin) {
+    CAPTURE(cluster);
+    CHECK_FALSE(thin);
+  }
   if (!rs.excavate) CHECK(r.stats.slivers_removed == 0);
   CHECK_THAT(volume, Catch::Matchers::WithinRel(test::domain_volume(js), 1e-9));
 }

@@ -147,19 +147,23 @@ BodyStats form_bodies(std::vector<Block>& blocks, const JointSystem& js, Referee
   UnionFind sets(blocks.size());
   join_clusters(blocks, js, referee, sets, st);
 
-  // Free slivers: kept blocks in no cluster under the limits.
-  std::vector<std::size_t> members(blocks.size(), 0);
-  for (std::size_t i = 0; i < blocks.size(); ++i) ++members[sets.root(i)];
-  std::vector<std::size_t> slivers;
-  std::vector<bool> free_sliver(blocks.size(), false);
+  // Sliver bodies: a free block under the limits, or a cluster of such blocks only (thin pieces
+  // on both sides of an exempt cut): either would be one of the model's smallest bodies.
+  std::vector<std::size_t> members(blocks.size(), 0), thin(blocks.size(), 0);
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    if (blocks[i].flags & kRemoved) continue;
+    ++members[sets.root(i)];
+    thin[sets.root(i)] += is_sliver(blocks[i], js.options, tol) ? 1 : 0;
+  }
+  std::vector<std::size_t> slivers;  // the blocks of sliver bodies, in block order
+  std::vector<bool> in_sliver_body(blocks.size(), false);
   std::vector<bool> wanted(js.joints.size(), false);
   for (std::size_t i = 0; i < blocks.size(); ++i) {
-    const Block& b = blocks[i];
-    if ((b.flags & kRemoved) || members[sets.root(i)] > 1 || !is_sliver(b, js.options, tol))
-      continue;
+    const std::size_t r = sets.root(i);
+    if ((blocks[i].flags & kRemoved) || thin[r] < members[r]) continue;
     slivers.push_back(i);
-    free_sliver[i] = true;
-    for (const Face& f : b.faces)
+    in_sliver_body[i] = true;
+    for (const Face& f : blocks[i].faces)
       if (f.joint >= 0) wanted[std::size_t(f.joint)] = true;
   }
 
@@ -169,28 +173,31 @@ BodyStats form_bodies(std::vector<Block>& blocks, const JointSystem& js, Referee
         [](std::size_t) { return true; });
     std::vector<bool> zone_removed(blocks.size());
     for (std::size_t i = 0; i < blocks.size(); ++i) zone_removed[i] = blocks[i].flags & kRemoved;
-    // Rule 1 needs a size the excavated surface may move by.
+    // Rule 1 needs a size the excavated surface may move by; it takes free blocks only.
     const double excavation =
         js.options.slivers == SliverRule::excavate ? js.options.min_inscribed_diameter : 0.0;
     std::vector<std::vector<Neighbour>> kept(slivers.size());
     std::vector<Face> merged;
-    // Pass 1: each sliver's contacts; those behind an excavated face within the minimum size go
-    // with the removed block. Decided against the zones' removals only: order-free.
+    // Pass 1: each sliver's contacts with blocks outside its body; a free one behind an
+    // excavated face within the minimum size goes with the removed block. Decided against the
+    // zones' removals only: order-free.
     for (std::size_t k = 0; k < slivers.size(); ++k) {
       const std::size_t s = slivers[k];
+      const bool alone = members[sets.root(s)] == 1;
       bool removed = false;
       for (std::size_t f = 0; f < blocks[s].faces.size(); ++f) {
         if (blocks[s].faces[f].joint < 0) continue;
         for (const Side& c : sides.facing(blocks[s], f, js)) {
-          if (c.block == s) continue;
+          if (c.block == s || (!zone_removed[c.block] && sets.root(c.block) == sets.root(s)))
+            continue;
           const Contact t = contact(blocks, {s, f}, c, js, referee, merged);
           st.contact_lps += t.solved ? 1 : 0;
           st.failed += t.failed ? 1 : 0;
           if (!t.touches) continue;
           if (!zone_removed[c.block]) {
-            kept[k].push_back({c.block, !free_sliver[c.block],
+            kept[k].push_back({c.block, !in_sliver_body[c.block],
                                is_fixed(blocks[c.block]) == is_fixed(blocks[s]), t.size});
-          } else if (!removed && excavation > 0) {
+          } else if (alone && !removed && excavation > 0) {
             ++st.reach_lps;
             const double depth = depth_behind(blocks[s], f, referee.solver(), tol);
             removed = depth >= 0 && depth <= excavation + tol.geometry;
@@ -203,21 +210,27 @@ BodyStats form_bodies(std::vector<Block>& blocks, const JointSystem& js, Referee
         ++st.slivers_removed;
       }
     }
-    // Pass 2: the others join their best kept neighbour (not one pass 1 removed).
+    // Pass 2: each sliver body left joins the best kept neighbour of any of its blocks (not one
+    // pass 1 removed), all decided on the bodies as pass 1 left them.
+    std::vector<std::size_t> body(blocks.size());
+    for (std::size_t i = 0; i < blocks.size(); ++i) body[i] = sets.root(i);
+    std::vector<const Neighbour*> best(blocks.size(), nullptr);  // by body
     for (std::size_t k = 0; k < slivers.size(); ++k) {
-      const std::size_t s = slivers[k];
-      if (blocks[s].flags & kRemoved) continue;
-      const Neighbour* best = nullptr;
+      if (blocks[slivers[k]].flags & kRemoved) continue;
+      const Neighbour*& b = best[body[slivers[k]]];
       for (const Neighbour& n : kept[k]) {
         if (blocks[n.block].flags & kRemoved) continue;
-        if (!best || n.rank() > best->rank()) best = &n;  // ties: the first, in face order
+        if (!b || n.rank() > b->rank()) b = &n;  // ties: the first, in block and face order
       }
-      if (!best) {
+    }
+    for (const std::size_t s : slivers) {
+      if (blocks[s].flags & kRemoved) continue;
+      if (best[body[s]]) {
+        sets.join(s, best[body[s]]->block);
+        ++st.slivers_joined;
+      } else {
         ++st.slivers_left;
-        continue;
       }
-      sets.join(s, best->block);
-      ++st.slivers_joined;
     }
   }
 

@@ -31,8 +31,9 @@ bool is_sliver(const Block& b, const SliceOptions& o, const Tolerances& tol);
 ///   2. with [options] slivers = "excavate" only: a free sliver that touches a removed block
 ///      with positive area, and reaches no deeper than the minimum inscribed diameter behind
 ///      that contact, is removed with it (an excavated surface moves by less than that size);
-///   3. any other free sliver joins the kept neighbour it touches over the largest contact
-///      (preferring a neighbour that is no sliver, then one as fixed as itself) as a cluster.
+///   3. any other sliver body (a free sliver, or a cluster of slivers only) joins the kept
+///      neighbour that one of its blocks touches over the largest contact (preferring a
+///      neighbour in no sliver body, then one as fixed as itself) as a cluster.
 /// Blocks removed by a zone are the ones step 2 looks at, so the result does not depend on the
 /// order of the slivers. Deterministic: the same blocks give the same ids and flags.
 BodyStats form_bodies(std::vector<Block>& blocks, const JointSystem& js, Referee& referee,
