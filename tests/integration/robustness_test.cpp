@@ -1,7 +1,6 @@
 // Issue 12 regressions, each named after what an audit found, run through the real tools: bad input
 // is exit 1 with one line, nothing is written and nothing on disk is damaged.
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,8 +13,6 @@
 
 #include "support/pipeline.hpp"
 #include "support/support.hpp"
-
-extern char** environ;
 
 using test::run_tool;
 using test::fs::path;
@@ -205,13 +202,7 @@ TEST_CASE("signals: a stale .partial is replaced, never followed", "[robustness]
 TEST_CASE("signals: SIGINT and SIGTERM remove the .partial being written", "[robustness][tools]") {
   test::TempDir tmp;
   // A 125,313-block geometry is written for long enough (about a second) to be caught mid-write.
-  std::string scene = test::read_bytes(test::data_path("table3-persistent.toml"));
-  for (std::size_t p = 0; (p = scene.find("spacing = 3.7", p)) != std::string::npos;)
-    scene.replace(p, 13, "spacing = 2.0");
-  test::write_text(tmp / "t.toml", scene);
-  const std::string joints = (tmp / "j.h5").string(), blocks = (tmp / "b.h5").string();
-  REQUIRE(run_tool("slice-joints", {(tmp / "t.toml").string(), "-o", joints, "-q"}).exit_code == 0);
-  REQUIRE(run_tool("slice-cut", {joints, "-o", blocks, "--prune", "-q"}).exit_code == 0);
+  const std::string blocks = test::table3_2m_blocks(tmp);
   const path out = tmp / "g.h5", partial = tmp / "g.h5.partial";
 
   for (const int sig : {SIGINT, SIGTERM}) {
@@ -219,13 +210,7 @@ TEST_CASE("signals: SIGINT and SIGTERM remove the .partial being written", "[rob
     bool caught = false;
     for (int attempt = 0; attempt < 5 && !caught; ++attempt) {
       test::write_text(out, "an older output that must survive");
-      const std::string exe = (path(SLICE_TOOLS_DIR) / "slice-vertices").string();
-      std::vector<std::string> args = {exe, blocks, "-o", out.string(), "-q"};
-      std::vector<char*> argv;
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      pid_t pid = 0;
-      REQUIRE(posix_spawn(&pid, exe.c_str(), nullptr, nullptr, argv.data(), environ) == 0);
+      const pid_t pid = test::spawn_tool("slice-vertices", {blocks, "-o", out.string(), "-q"});
       // Stop it the moment its .partial appears, then signal it: the handler must clean up.
       const auto t0 = std::chrono::steady_clock::now();
       int status = 0;

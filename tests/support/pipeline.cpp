@@ -1,7 +1,11 @@
 #include "support/pipeline.hpp"
 
+#include <spawn.h>
+
 #include <algorithm>
 #include <catch2/catch.hpp>
+
+extern char** environ;
 
 namespace test {
 
@@ -36,6 +40,29 @@ void check_bad_scenes(const std::vector<BadScene>& cases) {
     CHECK_FALSE(fs::exists(out));
     CHECK_FALSE(fs::exists(tmp / "j.h5.partial"));
   }
+}
+
+std::string table3_2m_blocks(const TempDir& tmp) {
+  std::string scene = read_bytes(data_path("table3-persistent.toml"));
+  for (std::size_t p = 0; (p = scene.find("spacing = 3.7", p)) != std::string::npos;)
+    scene.replace(p, 13, "spacing = 2.0");
+  write_text(tmp / "t.toml", scene);
+  const std::string joints = (tmp / "j.h5").string(), blocks = (tmp / "b.h5").string();
+  REQUIRE(run_tool("slice-joints", {(tmp / "t.toml").string(), "-o", joints, "-q"}).exit_code == 0);
+  REQUIRE(run_tool("slice-cut", {joints, "-o", blocks, "--prune", "-q"}).exit_code == 0);
+  return blocks;
+}
+
+int spawn_tool(const std::string& tool, const std::vector<std::string>& args) {
+  const std::string exe = (fs::path(SLICE_TOOLS_DIR) / tool).string();
+  std::vector<std::string> all = {exe};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  REQUIRE(posix_spawn(&pid, exe.c_str(), nullptr, nullptr, argv.data(), environ) == 0);
+  return pid;
 }
 
 }  // namespace test

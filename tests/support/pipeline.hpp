@@ -17,6 +17,14 @@ enum class Stage {
 /// returns the path of the last output.
 std::string run_pipeline(const TempDir& tmp, const std::string& scene, Stage last);
 
+/// Table 3's persistent scene at 2.0 m spacing, cut and pruned into tmp/b.h5 (125,313 blocks:
+/// slice-vertices takes about a second to write their geometry, long enough to catch it
+/// mid-write). Returns the path of b.h5.
+std::string table3_2m_blocks(const TempDir& tmp);
+
+/// Starts a built tool in the background (posix_spawn; the caller waits for it). Its pid.
+int spawn_tool(const std::string& tool, const std::vector<std::string>& args);
+
 struct BadScene {
   std::string name;                // what is wrong
   std::string text;                // the scene

@@ -1,19 +1,24 @@
 #pragma once
 // Atomic outputs. Every file a tool writes is written to "<out>.partial" in the same directory
 // and renamed onto `out` only when complete, so a failed, interrupted or killed run never leaves
-// a half-written file that looks valid and never damages an existing `out`.
+// a half-written file that looks valid and never damages an existing `out`. A run holds a lock
+// on each .partial it writes (an open file description lock), so a second run on the same
+// output is refused while the first is alive, and a .partial nobody holds is stale. A tool with
+// several outputs holds back the renames (hold_commits) until every output is complete.
 #include <filesystem>
 #include <string>
 
 namespace slice {
 
 /// One output in progress. The constructor replaces a stale "<out>.partial" (left by a run that
-/// was killed) and registers the .partial so that remove_partial_files() can delete it from a
-/// signal handler. If commit() is never reached (an exception), the destructor removes it.
+/// was killed), creates the .partial and locks it, and registers it so that
+/// remove_partial_files() can delete it from a signal handler. If commit() is never reached (an
+/// exception), the destructor removes it.
 class PartialFile {
  public:
-  /// Throws Error if the directory of `out` does not exist, if `out` is a directory, or if a
-  /// directory stands where the .partial goes.
+  /// Throws Error if the directory of `out` does not exist, if `out` is a directory, if a
+  /// directory stands where the .partial goes, if the .partial cannot be created, or if another
+  /// live run holds it (writes the same output).
   explicit PartialFile(std::filesystem::path out);
   ~PartialFile();
   PartialFile(const PartialFile&) = delete;
@@ -21,19 +26,39 @@ class PartialFile {
 
   const std::filesystem::path& path() const { return partial_; }
   const std::filesystem::path& target() const { return out_; }
-  /// Renames the .partial onto `out` (atomic on POSIX). Throws Error on failure.
+  /// Renames the .partial onto `out` (atomic on POSIX). Throws Error on failure. While commits
+  /// are held (hold_commits), the complete .partial is kept, still locked and registered, for
+  /// commit_held_outputs() to rename.
   void commit();
 
  private:
   std::filesystem::path out_;
   std::filesystem::path partial_;
   int slot_ = -1;  // registry slot (-1: not registered)
+  int lock_ = -1;  // descriptor holding the lock on the .partial (-1: none)
   bool committed_ = false;
 };
+
+/// From now on PartialFile::commit() keeps each complete output as its .partial, until
+/// commit_held_outputs() renames them all or discard_held_outputs() deletes them: a run with
+/// several outputs (blocks.h5 and --stats, blocks.vtu and --joints, a 3DEC grid and its
+/// commands) replaces none of the existing ones unless every new one is complete. For the main
+/// thread of a tool.
+void hold_commits();
+/// Renames every held output onto its target, in the order they were completed, and stops
+/// holding. Throws Error on a failed rename (the ones not yet renamed are deleted).
+void commit_held_outputs();
+/// Deletes every held output and stops holding (a run that failed after some outputs were
+/// complete).
+void discard_held_outputs() noexcept;
 
 /// Deletes every .partial of a PartialFile alive in this process. Async-signal-safe (only
 /// atomic loads and unlink(2)): for a SIGINT / SIGTERM handler, which then re-raises the signal.
 void remove_partial_files() noexcept;
+
+/// " (<what the system said>)" for the errno of a failed write, e.g. " (No space left on
+/// device)"; "" if errno is 0. For the messages of writers that use streams.
+std::string system_reason();
 
 /// Writes `text` to `out` atomically (through a PartialFile). Throws Error naming `out`.
 void write_text_file(const std::filesystem::path& out, const std::string& text);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -278,9 +279,11 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
 
   PartialFile part(out);
   {
+    errno = 0;  // what a failed write leaves here is its reason (system_reason)
     std::ofstream s(part.path(), std::ios::binary);
     if (!s)
-      throw Error(out.string(), "cannot create " + part.path().filename().string(),
+      throw Error(out.string(),
+                  "cannot create " + part.path().filename().string() + system_reason(),
                   "check that the directory is writable");
     s << "# rockslice " << version() << ": a YADE model of " << st.bodies << " blocks ("
       << (pb ? "PotentialBlock" : "Polyhedra") << " bodies), " << st.fixed << " fixed, "
@@ -365,7 +368,7 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
     write_program(s, pb, section);
     s.flush();
     if (!s)
-      throw Error(out.string(), "cannot write " + part.path().filename().string(),
+      throw Error(out.string(), "cannot write " + part.path().filename().string() + system_reason(),
                   "check that the disk is not full");
   }
   part.commit();

@@ -1237,6 +1237,7 @@ struct BlocksFileWriter::Impl {
 
   // The writing thread: /blocks, then each run as it comes, checked against its blocks.
   void write() {
+    h5::silence_thread();  // a full disk: one error line, not HDF5's 41 lines of stack
     try {
       write_all();
     } catch (...) {

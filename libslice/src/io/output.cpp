@@ -1,12 +1,17 @@
 #include "slice/output.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <array>
 #include <atomic>
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <mutex>
+#include <vector>
 
 #include "slice/error.hpp"
 
@@ -42,6 +47,45 @@ void unregister_partial(int slot) {
   std::unique_ptr<char[]> old(g_partials[std::size_t(slot)].exchange(nullptr));
 }
 
+// A write lock on the whole file, of the open file description (F_OFD_SETLK): it is not lost
+// when another descriptor of the file is closed (as HDF5 closes its own), and it does not
+// conflict with the flock(2) locks HDF5 takes.
+bool lock_whole(int fd) {
+  struct flock l {};
+  l.l_type = F_WRLCK;
+  l.l_whence = SEEK_SET;
+  return ::fcntl(fd, F_OFD_SETLK, &l) == 0;
+}
+
+void rename_onto(const fs::path& partial, const fs::path& out) {
+  std::error_code ec;
+  fs::rename(partial, out, ec);
+  if (ec)
+    throw Error(out.string(),
+                "cannot replace it with the finished " + partial.filename().string() + " (" +
+                    ec.message() + ")",
+                "check that it is not a directory and that its directory is writable");
+}
+
+// Outputs complete but held back (hold_commits): their .partial, registry slot and lock.
+struct Held {
+  fs::path out, partial;
+  int slot = -1, lock = -1;
+};
+std::mutex g_held_mutex;
+bool g_holding = false;
+std::vector<Held> g_held;
+
+// Ends a held output: renamed already, or (`remove`) deleted.
+void release(Held& h, bool remove) noexcept {
+  unregister_partial(h.slot);
+  if (remove) {
+    std::error_code ec;
+    if (fs::is_regular_file(fs::symlink_status(h.partial, ec))) fs::remove(h.partial, ec);
+  }
+  if (h.lock >= 0) ::close(h.lock);
+}
+
 }  // namespace
 
 PartialFile::PartialFile(fs::path out)
@@ -53,39 +97,119 @@ PartialFile::PartialFile(fs::path out)
                 "create it or choose another output path");
   if (fs::is_directory(out_, ec))
     throw Error(out_.string(), "is a directory", "give a file name for the output");
-  // A stale .partial (a run killed by SIGKILL or a power cut) is replaced. A symlink is removed,
-  // never followed: writing through it would truncate whatever it points to.
-  const fs::file_status st = fs::symlink_status(partial_, ec);
-  if (fs::is_directory(st))
-    throw Error(out_.string(), "a directory " + partial_.filename().string() + " is in the way",
-                "remove it or choose another output path");
-  if (fs::exists(st) && !fs::remove(partial_, ec))
-    throw Error(
-        out_.string(),
-        "cannot remove the stale " + partial_.filename().string() + " (" + ec.message() + ")",
-        "remove it by hand or choose another output path");
-  slot_ = register_partial(partial_);
+  // Create the .partial and lock it. A .partial already there is another live run's while that
+  // run holds its lock; otherwise it is stale (a run killed by SIGKILL or a power cut) and is
+  // replaced. A symlink there is removed, never followed. Another run may do the same at the
+  // same moment: whoever creates the file and locks it first writes; the lock is checked to be
+  // on the file the path names, else the loop starts again.
+  for (int attempt = 0;; ++attempt) {
+    if (attempt == 8)
+      throw Error(out_.string(), "another run keeps replacing " + partial_.filename().string(),
+                  "run one tool at a time on an output");
+    const fs::file_status st = fs::symlink_status(partial_, ec);
+    if (fs::is_directory(st))
+      throw Error(out_.string(), "a directory " + partial_.filename().string() + " is in the way",
+                  "remove it or choose another output path");
+    if (fs::is_regular_file(st)) {
+      const int fd = ::open(partial_.c_str(), O_RDWR | O_NOFOLLOW | O_CLOEXEC);
+      if (fd >= 0) {
+        const bool live = !lock_whole(fd) && (errno == EAGAIN || errno == EACCES);
+        ::close(fd);  // releases the lock taken to test it
+        if (live)
+          throw Error(out_.string(),
+                      "another run is writing it (" + partial_.filename().string() +
+                          " is locked by a live process)",
+                      "wait for that run to finish, or choose another output path");
+      }
+    }
+    if (fs::exists(st) && !fs::remove(partial_, ec) && ec)
+      throw Error(
+          out_.string(),
+          "cannot remove the stale " + partial_.filename().string() + " (" + ec.message() + ")",
+          "remove it by hand or choose another output path");
+    // Registered before it exists, so that a signal from the moment it does removes it.
+    slot_ = register_partial(partial_);
+    const int fd =
+        ::open(partial_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    const int error = errno;
+    struct stat mine {};
+    struct stat named {};
+    if (fd >= 0 && lock_whole(fd) && ::fstat(fd, &mine) == 0 &&
+        ::lstat(partial_.c_str(), &named) == 0 && mine.st_dev == named.st_dev &&
+        mine.st_ino == named.st_ino) {
+      lock_ = fd;
+      return;
+    }
+    // Another run created it first, or took ours as stale and replaced it: look again.
+    if (fd >= 0) ::close(fd);
+    unregister_partial(slot_);
+    slot_ = -1;
+    if (fd < 0 && error != EEXIST)
+      throw Error(
+          out_.string(),
+          "cannot create " + partial_.filename().string() + " (" + std::strerror(error) + ")",
+          "check that the directory is writable");
+  }
 }
 
 PartialFile::~PartialFile() {
-  unregister_partial(slot_);
-  if (committed_) return;
-  // Only ever a regular file of ours: never a directory someone put there.
-  std::error_code ec;
-  if (fs::is_regular_file(fs::symlink_status(partial_, ec))) fs::remove(partial_, ec);
+  if (!committed_) {
+    unregister_partial(slot_);
+    // Only ever a regular file of ours: never a directory someone put there.
+    std::error_code ec;
+    if (fs::is_regular_file(fs::symlink_status(partial_, ec))) fs::remove(partial_, ec);
+  }
+  if (lock_ >= 0) ::close(lock_);
 }
 
 void PartialFile::commit() {
-  std::error_code ec;
-  fs::rename(partial_, out_, ec);
-  if (ec)
-    throw Error(out_.string(),
-                "cannot replace it with the finished " + partial_.filename().string() + " (" +
-                    ec.message() + ")",
-                "check that it is not a directory and that its directory is writable");
+  {
+    const std::lock_guard lock(g_held_mutex);
+    if (g_holding) {
+      g_held.push_back({out_, partial_, slot_, lock_});
+      slot_ = lock_ = -1;  // the held output owns them now
+      committed_ = true;
+      return;
+    }
+  }
+  rename_onto(partial_, out_);
   committed_ = true;
   unregister_partial(slot_);
   slot_ = -1;
+}
+
+void hold_commits() {
+  const std::lock_guard lock(g_held_mutex);
+  g_holding = true;
+}
+
+void commit_held_outputs() {
+  std::vector<Held> held;
+  {
+    const std::lock_guard lock(g_held_mutex);
+    held.swap(g_held);
+    g_holding = false;
+  }
+  std::size_t done = 0;
+  try {
+    for (; done < held.size(); ++done) {
+      rename_onto(held[done].partial, held[done].out);
+      release(held[done], false);
+    }
+  } catch (...) {
+    for (; done < held.size(); ++done) release(held[done], true);
+    throw;
+  }
+}
+
+void discard_held_outputs() noexcept {
+  std::vector<Held> held;
+  {
+    const std::lock_guard lock(g_held_mutex);
+    held.swap(g_held);
+    g_holding = false;
+  }
+  for (Held& h : held) release(h, true);
 }
 
 void remove_partial_files() noexcept {
@@ -93,14 +217,20 @@ void remove_partial_files() noexcept {
     if (const char* p = slot.load()) ::unlink(p);
 }
 
+std::string system_reason() {
+  const int e = errno;
+  return e ? " (" + std::string(std::strerror(e)) + ")" : std::string();
+}
+
 void write_text_file(const fs::path& out, const std::string& text) {
   PartialFile part(out);
   {
+    errno = 0;
     std::ofstream s(part.path(), std::ios::binary);
     s << text;
     s.flush();
     if (!s)
-      throw Error(out.string(), "cannot write " + part.path().filename().string(),
+      throw Error(out.string(), "cannot write " + part.path().filename().string() + system_reason(),
                   "check that the directory is writable and the disk is not full");
   }
   part.commit();

@@ -19,7 +19,8 @@ namespace {
 
 // --- errors ----------------------------------------------------------------------------------
 
-// HDF5's own printing goes to stderr, which the library never writes to. Idempotent.
+// HDF5's own printing goes to stderr, which the library never writes to. Idempotent; per thread
+// in a thread-safe HDF5 (Debian's), so a thread that calls HDF5 calls it too (silence_thread).
 void silence() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
 herr_t collect(unsigned /*n*/, const H5E_error2_t* e, void* data) {
@@ -35,6 +36,13 @@ std::string reason() {
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, collect, &descs);
   H5Eclear2(H5E_DEFAULT);
   if (descs.empty()) return {};
+  // A failed write or read carries the system's error (errno, its message, buffers, a time
+  // stamp): say just what the system said.
+  for (const std::string& d : descs)
+    if (const auto at = d.find("error message = '"); at != std::string::npos) {
+      const auto from = at + 17, to = d.find('\'', from);
+      if (to != std::string::npos) return " (" + d.substr(from, to - from) + ")";
+    }
   std::string r = descs.front();
   if (descs.size() > 1 && descs.back() != descs.front()) r += ": " + descs.back();
   return " (HDF5: " + r + ")";
@@ -163,6 +171,8 @@ std::string shape_string(int rank, const hsize_t* dims) {
 }
 
 }  // namespace
+
+void silence_thread() { silence(); }
 
 // --- Handle ----------------------------------------------------------------------------------
 

@@ -22,6 +22,10 @@ namespace slice::h5 {
 
 namespace fs = std::filesystem;
 
+/// HDF5 prints its error stack to stderr unless told not to, once per thread: a thread other
+/// than the one that opened the file calls this before its first HDF5 call.
+void silence_thread();
+
 /// hid_t of HDF5 1.10 (h5.cpp checks they agree).
 using Id = std::int64_t;
 
