@@ -1,8 +1,10 @@
 // slice-export: geom.h5 (blocks with /geometry) -> blocks.vtu for ParaView, a YADE script, or a
 // 3DEC grid with the command file that imports it.
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <string>
+#include <tuple>
 
 #include "common/tool.hpp"
 #include "slice/error.hpp"
@@ -10,6 +12,15 @@
 #include "slice/export_vtu.hpp"
 #include "slice/export_yade.hpp"
 #include "slice/h5io.hpp"
+
+namespace {
+// x in 3 significant digits ("1.23e-05"), for the summary lines.
+std::string sci(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   tool::Tool t{"slice-export",
@@ -23,6 +34,14 @@ int main(int argc, char** argv) {
   std::string commands;
   t.cli.add_option("--3dec-commands", commands,
                    "3dec: the command file that imports the grid (default: -o with .dat)");
+  slice::ThreeDecOptions tdec;  // defaults live in the library
+  for (const auto& [name, value, help] :
+       {std::tuple{"--3dec-density", &tdec.density, "3dec: rock density [kg/m3]"},
+        std::tuple{"--3dec-jkn", &tdec.jkn, "3dec: joint normal stiffness [Pa/m]"},
+        std::tuple{"--3dec-jks", &tdec.jks, "3dec: joint shear stiffness [Pa/m]"},
+        std::tuple{"--3dec-friction", &tdec.friction_deg,
+                   "3dec: friction angle [deg] of contacts on no JS line (joint set 0)"}})
+    t.cli.add_option(name, *value, help)->capture_default_str();
   t.cli.add_option("--joints", joints, "vtu: also write the joints inside the domain to this VTU");
   std::string compressor = "lz4";
   t.cli
@@ -68,6 +87,7 @@ int main(int argc, char** argv) {
                                 {"--joints", joints},
                                 {"--3dec-commands", commands}});
     yade.validate();
+    tdec.validate();
     const auto vtu_compressor = slice::parse_vtu_compressor(compressor, "--vtu-compressor");
     const slice::BlockSystem bs = slice::read_blocks(in);
     if (!bs.geometry)
@@ -86,12 +106,24 @@ int main(int argc, char** argv) {
       return;
     }
     if (format == "3dec") {
-      const auto st = slice::write_3dec(out, commands, bs);
+      const auto st = slice::write_3dec(out, commands, bs, tdec);
       t.say(std::to_string(st.blocks) + " blocks (" + std::to_string(st.removed) +
             " removed left out), " + std::to_string(st.faces) + " faces, " +
-            std::to_string(st.contacts) + " joint contacts -> " + out);
+            std::to_string(st.contacts) + " joint contacts (" + std::to_string(st.bridge_contacts) +
+            " rock bridges), TOL " + sci(st.tol) + " -> " + out);
       t.say(std::to_string(st.fixed) + " blocks in group boundary (fixed), " +
-            std::to_string(st.clusters) + " cluster groups -> " + commands);
+            std::to_string(st.clusters) + " clusters joined, " + std::to_string(st.joint_sets) +
+            " joint sets with properties -> " + commands);
+      const std::string body = st.min_is_cluster ? "cluster " + std::to_string(st.min_body)
+                                                 : "block " + std::to_string(st.min_body);
+      t.say((st.smallest_id > 0 ? "smallest free block: id " + std::to_string(st.smallest_id) +
+                                      ", volume " + sci(st.smallest_volume) + " m3, inradius " +
+                                      sci(st.smallest_inradius) + " m; "
+                                : std::string("no free block; ")) +
+            (st.critical_timestep > 0 ? "3DEC critical time step " + sci(st.critical_timestep) +
+                                            " s (lightest body " + body + ", " + sci(st.min_mass) +
+                                            " kg; k_max " + sci(st.max_contact_stiffness) + " N/m)"
+                                      : std::string("no free body sets a time step")));
       t.exit_now();
       return;
     }
