@@ -24,11 +24,12 @@ std::string sci(double x) {
 
 int main(int argc, char** argv) {
   tool::Tool t{"slice-export",
-               "Export blocks with vertices (slice-vertices) to VTU for ParaView or to YADE."};
+               "Export blocks with vertices (slice-vertices) to VTU for ParaView, YADE or 3DEC."};
   std::string in, out, format = "vtu", joints;
   slice::YadeOptions yade;  // defaults live in the library
   t.cli.add_option("geometry", in, "geom.h5 from slice-vertices")->required();
-  t.cli.add_option("-o,--output", out, "output file (blocks.vtu, model.py)")->required();
+  t.cli.add_option("-o,--output", out, "output file (blocks.vtu, model.py, model.3dgrid)")
+      ->required();
   t.cli.add_option("--format", format, "vtu | yade | yade-potential-blocks | 3dec")
       ->capture_default_str();
   std::string commands;
