@@ -456,7 +456,7 @@ void write_commands(TextOut& out, const std::string& grid_name, const BlockSyste
        "block contact jmodel assign mohr\n";
   put_properties(s, opt, opt.friction_deg, 0, 0);
   s += "\n";
-  std::vector<const Joint*> joint_of(2 * ids.count + 1, nullptr);
+  std::vector<const Joint*> joint_of(ids.count + 1, nullptr);  // by base ID
   for (std::size_t i = js.joints.size(); i-- > 0;) joint_of[ids.of_joint[i]] = &js.joints[i];
   std::vector<std::size_t> used;
   for (const Contact& c : contacts)
