@@ -1,7 +1,9 @@
 # Renders blocks.vtu (slice-export --format vtu) to a PNG with ParaView, blocks coloured by
 # volume (log scale), removed blocks absent (they are not in the file), joints optional.
 #   pvpython pipelines/render.py blocks.vtu picture.png [joints.vtu]
-# Headless: xvfb-run -a pvpython ...; pipelines/render does both and finds a pvpython.
+# It needs an X server (Debian's ParaView renders through GLX only): pipelines/render starts its
+# own Xvfb, finds a pvpython and turns failures into one line. Bad input: one line on stderr
+# starting "render.py: error:", exit 1.
 import os
 import sys
 
@@ -15,9 +17,19 @@ from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFun
                              GetScalarBar, Render, SaveScreenshot, Show,
                              XMLUnstructuredGridReader)
 
+
+
+def bad(what):
+    print('render.py: error: ' + what, file=sys.stderr)
+    sys.exit(1)
+
+
 if len(sys.argv) not in (3, 4):
-    sys.exit('usage: pvpython render.py blocks.vtu picture.png [joints.vtu]')
+    bad('usage: pvpython render.py blocks.vtu picture.png [joints.vtu]')
 blocks_file, picture = sys.argv[1], sys.argv[2]
+for f in sys.argv[1:2] + sys.argv[3:]:
+    if not os.path.isfile(f):
+        bad('%s: no such file; give a .vtu from slice-export --format vtu' % f)
 
 view = GetActiveViewOrCreate('RenderView')
 view.ViewSize = [1000, 620]
@@ -29,6 +41,13 @@ except AttributeError:
     pass
 
 blocks = XMLUnstructuredGridReader(FileName=[blocks_file])
+blocks.UpdatePipeline()
+if blocks.GetDataInformation().GetNumberOfCells() == 0:
+    bad('%s: no blocks read (not a VTU unstructured grid, or empty); give blocks.vtu from '
+        'slice-export --format vtu' % blocks_file)
+if blocks.CellData['volume'] is None:
+    bad('%s: no cell array "volume"; give blocks.vtu from slice-export --format vtu'
+        % blocks_file)
 shown = Show(blocks, view)
 shown.Representation = 'Surface With Edges'
 shown.EdgeColor = [0.15, 0.15, 0.15]
@@ -77,5 +96,6 @@ else:
     view.CameraViewUp = [0, 0, 1]
     view.CameraViewAngle = 30
 Render(view)
-SaveScreenshot(picture, view, ImageResolution=[1000, 620], CompressionLevel='9')
+if not SaveScreenshot(picture, view, ImageResolution=[1000, 620], CompressionLevel='9'):
+    bad('%s: ParaView could not write the picture' % picture)
 print('render.py: %s -> %s' % (blocks_file, picture))

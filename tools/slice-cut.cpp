@@ -59,6 +59,9 @@ int main(int argc, char** argv) {
                                         {"splits", s.splits},
                                         {"splits_undone", s.splits_undone},
                                         {"pairs_skipped", s.pairs_skipped},
+                                        {"slivers_removed", s.slivers_removed},
+                                        {"slivers_joined", s.slivers_joined},
+                                        {"slivers_left", s.slivers_left},
                                         {"lps_cut_test", s.lps.cut_test},
                                         {"lps_extents", s.lps.extents},
                                         {"lps_chebyshev", s.lps.chebyshev},
@@ -86,6 +89,12 @@ int main(int argc, char** argv) {
     t.say("splits " + std::to_string(s.splits) + ", undone by size/shape limits " +
           std::to_string(s.splits_undone) + "; joint-block pairs skipped by the index " +
           std::to_string(s.pairs_skipped));
+    if (s.slivers_removed + s.slivers_joined + s.slivers_left > 0)
+      t.say("slivers (free blocks under the size/shape limits, left by exempt cuts): " +
+            std::to_string(s.slivers_removed) + " removed with the excavation they touch, " +
+            std::to_string(s.slivers_joined) + " joined to a neighbour's cluster" +
+            (s.slivers_left ? ", " + std::to_string(s.slivers_left) + " with no neighbour (left)"
+                            : std::string()));
     t.say("LPs (" + slice::to_string(opt.backend) + "): cut tests " +
           std::to_string(s.lps.cut_test) + ", extents " + std::to_string(s.lps.extents) +
           ", Chebyshev " + std::to_string(s.lps.chebyshev) + " (" +

@@ -51,10 +51,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   t.cli.add_option("--yade-steps", yade.steps, "yade: run this many steps at the end (0: none)")
       ->capture_default_str();
-  t.cli.add_option("--yade-density", yade.density, "yade: rock density [kg/m3]")
-      ->capture_default_str();
-  t.cli.add_option("--yade-young", yade.young, "yade: contact stiffness (PolyhedraMat.young)")
-      ->capture_default_str();
+  tool::add_yade_timestep_options(t.cli, yade);
   t.cli.add_option("--yade-poisson", yade.poisson, "yade: shear / normal contact stiffness")
       ->capture_default_str();
   t.cli
@@ -62,10 +59,6 @@ int main(int argc, char** argv) {
                   "yade: friction angle [deg] of blocks without rock or boundary joint faces")
       ->capture_default_str();
   t.cli.add_option("--yade-damping", yade.damping, "yade: NewtonIntegrator damping")
-      ->capture_default_str();
-  t.cli
-      .add_option("--yade-timestep-factor", yade.timestep_factor,
-                  "yade: time step as a fraction of the critical one")
       ->capture_default_str();
   t.cli
       .add_option("--pb-rounding", yade.pb_rounding,
@@ -135,6 +128,9 @@ int main(int argc, char** argv) {
     t.say(std::to_string(st.bodies) + " bodies (" + std::to_string(st.fixed) + " fixed, " +
           std::to_string(st.clumps) + " clumps; " + std::to_string(st.removed) +
           " removed blocks left out) -> " + out);
+    t.say(tool::smallest_bodies_line(st.dem) + " -> O.dt = " + tool::sig(st.timestep, 4) + " s (" +
+          tool::sig(yade.timestep_factor, 3) + " x the critical step, density " +
+          tool::sig(yade.density, 6) + ", young " + tool::sig(yade.young, 6) + ")");
     t.exit_now();
   });
 }

@@ -5,6 +5,8 @@
 #include <string>
 
 #include "common/tool.hpp"
+#include "slice/dem.hpp"
+#include "slice/export_yade.hpp"
 #include "slice/h5io.hpp"
 #include "slice/polytope.hpp"
 #include "slice/scene.hpp"
@@ -32,7 +34,8 @@ ordered_json describe_joints(const slice::JointSystem& js) {
                   {"max_aspect_ratio", js.options.max_aspect_ratio},
                   {"tolerance", js.options.tolerance},
                   {"max_blocks", js.options.max_blocks},
-                  {"fixed_faces", slice::fixed_faces_string(js.options.fixed_faces)}};
+                  {"fixed_faces", slice::fixed_faces_string(js.options.fixed_faces)},
+                  {"slivers", slice::kSliverRuleNames[std::size_t(js.options.slivers)]}};
   std::map<std::string, std::size_t> by_kind{{"rock", 0}, {"construction", 0}, {"boundary", 0}};
   std::size_t persistent = 0;
   std::vector<std::size_t> per_set(js.sets.size(), 0);
@@ -64,6 +67,26 @@ ordered_json describe_joints(const slice::JointSystem& js) {
   return j;
 }
 
+// What sets the time step of the DEM model slice-export writes (removed blocks left out).
+ordered_json describe_bodies(const slice::BlockSystem& bs, const slice::YadeOptions& yade) {
+  const slice::DemBodies d = slice::dem_bodies(bs);
+  ordered_json j = {{"bodies", d.bodies}, {"clumps", d.clumps}, {"fixed", d.fixed}};
+  j["smallest_free_block"] = d.free_block < 0 ? ordered_json(nullptr)
+                                              : ordered_json{{"block", d.free_block},
+                                                             {"volume", d.free_volume},
+                                                             {"inradius", d.free_inradius}};
+  j["smallest_moving_body"] = d.moving_block < 0 ? ordered_json(nullptr)
+                                                 : ordered_json{{"block", d.moving_block},
+                                                                {"cluster", d.moving_cluster},
+                                                                {"volume", d.moving_volume}};
+  j["yade_timestep"] = {
+      {"dt", slice::yade_timestep(d, yade.density, yade.young, yade.timestep_factor)},
+      {"density", yade.density},
+      {"young", yade.young},
+      {"timestep_factor", yade.timestep_factor}};
+  return j;
+}
+
 void print_text(const ordered_json& j, const std::string& indent = "") {
   for (const auto& [key, value] : j.items()) {
     if (value.is_object()) {
@@ -91,7 +114,10 @@ int main(int argc, char** argv) {
   bool json = false;
   t.cli.add_option("file", file, "a .h5 file written by a rockslice tool")->required();
   t.cli.add_flag("--json", json, "print JSON on stdout instead of text");
+  slice::YadeOptions yade;  // the time step of geom.h5's YADE model, as slice-export sets it
+  tool::add_yade_timestep_options(t.cli, yade);
   return t.run(argc, argv, [&] {
+    yade.validate();
     const slice::FileHeader h = slice::read_header(file);
     ordered_json j;
     j["file"] = file;
@@ -131,6 +157,12 @@ int main(int argc, char** argv) {
                          {"volume", volume},
                          {"removed_volume", removed_volume},
                          {"rock_bridge_faces", bridge_faces}};
+        j["dem"] = describe_bodies(bs, yade);
+        // Beside each set's P32 in the DFN, the open joint area it keeps in the block model.
+        const std::vector<double> p32 = slice::realised_p32(bs);
+        auto& sets = j["joints"]["by_set"];
+        for (std::size_t k = 0; k < sets.size(); ++k) sets[k]["p32_blocks"] = p32[k];
+        j["joints"]["p32_blocks_deterministic"] = p32.back();
       }
     }
     if (json)

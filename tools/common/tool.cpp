@@ -173,6 +173,36 @@ std::string fixed(double x, int digits) {
   return buf;
 }
 
+std::string sig(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+  return buf;
+}
+
+void add_yade_timestep_options(CLI::App& cli, slice::YadeOptions& yade) {
+  cli.add_option("--yade-density", yade.density, "yade: rock density [kg/m3]")
+      ->capture_default_str();
+  cli.add_option("--yade-young", yade.young, "yade: contact stiffness (PolyhedraMat.young)")
+      ->capture_default_str();
+  cli.add_option("--yade-timestep-factor", yade.timestep_factor,
+                 "yade: time step as a fraction of the critical one")
+      ->capture_default_str();
+}
+
+std::string smallest_bodies_line(const slice::DemBodies& d) {
+  std::string s = std::to_string(d.bodies) + " rigid bodies (" + std::to_string(d.clumps) +
+                  " clumps, " + std::to_string(d.fixed) + " fixed); smallest free block: ";
+  s += d.free_block < 0 ? std::string("none")
+                        : std::to_string(d.free_block) + " (volume " + sig(d.free_volume, 4) +
+                              ", inradius " + sig(d.free_inradius, 4) + ")";
+  s += "; smallest moving body: ";
+  if (d.moving_block < 0) return s + "none";
+  s += d.moving_cluster < 0 ? "block " + std::to_string(d.moving_block)
+                            : "cluster " + std::to_string(d.moving_cluster) + " (first block " +
+                                  std::to_string(d.moving_block) + ")";
+  return s + ", volume " + sig(d.moving_volume, 4);
+}
+
 void check_distinct_paths(const std::vector<PathArg>& paths) {
   namespace fs = std::filesystem;
   // The file a name stands for: its own symlinks followed even when they dangle (an output

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "slice/dem.hpp"
+#include "slice/export_yade.hpp"
 #include "slice/h5io.hpp"
 #include "slice/progress.hpp"
 
@@ -59,6 +61,16 @@ class Tool {
 
 /// x with `digits` decimals ("0.125"), for the figures tools report.
 std::string fixed(double x, int digits);
+/// x with `digits` significant digits ("1.18e-05", "0.0312").
+std::string sig(double x, int digits);
+
+/// The options that set the YADE model's time step (--yade-density, --yade-young,
+/// --yade-timestep-factor), for slice-export and slice-info alike.
+void add_yade_timestep_options(CLI::App& cli, slice::YadeOptions& yade);
+
+/// What sets a DEM model's time step, in one line: the smallest free block (id, volume,
+/// inradius) and the smallest body that moves (a cluster's volume summed).
+std::string smallest_bodies_line(const slice::DemBodies& d);
 
 /// A file a tool reads or writes, named as the user gave it, with the option that named it.
 struct PathArg {

@@ -55,6 +55,11 @@ struct CutStats {
   std::size_t pairs_skipped = 0;  // joint-block pairs the spheres and the grid ruled out
   std::size_t boundary = 0, removed = 0, clusters = 0;
   std::size_t fixed = 0;  // blocks on a face named in [options] fixed_faces
+  // Slivers: free blocks (kept, in no cluster) under the size or shape limits, left by cuts
+  // exempt from them (limits = false: construction joints, tunnel and mesh outlines).
+  std::size_t slivers_removed = 0;  // removed with the excavated block they touch (in `removed`)
+  std::size_t slivers_joined = 0;   // clustered with the neighbour they touch most
+  std::size_t slivers_left = 0;     // with no neighbour to go with (expected: 0)
   LpCounts lps;
   DecisionCounts decisions;   // LPs solved again and decisions re-decided exactly
   double seconds_cut = 0;     // the sequential subdivision
@@ -68,7 +73,9 @@ struct CutResult {
 
 /// Cuts the domain of `js` by its joints in file order. The blocks come out with their origin
 /// at their Chebyshev centre, inradius and bounding sphere set, flags (boundary, removed) and
-/// cluster ids (construction joints) computed. Not pruned: see prune_blocks.
+/// cluster ids (construction joints) computed, and no free sliver: a kept block in no cluster
+/// under the size or shape limits is removed with the excavated block it touches or joins a
+/// neighbour's cluster (see CutStats). Not pruned: see prune_blocks.
 CutResult cut_blocks(const JointSystem& js, const CutOptions& opt, const Progress& progress = {});
 
 struct PruneStats {

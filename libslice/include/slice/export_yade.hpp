@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <string>
 
+#include "slice/dem.hpp"
 #include "slice/h5io.hpp"
 
 namespace slice {
@@ -46,7 +47,9 @@ struct YadeOptions {
 };
 
 struct YadeStats {
-  std::size_t bodies = 0, fixed = 0, clumps = 0, removed = 0;
+  std::size_t bodies = 0, fixed = 0, clumps = 0, removed = 0;  // bodies: blocks written
+  DemBodies dem;        // the model's rigid bodies, the smallest free block and moving body
+  double timestep = 0;  // O.dt the script sets (yade_timestep)
 };
 
 /// The friction angle [degrees] the rule above gives block `b` of `bs`.

@@ -68,6 +68,14 @@ inline constexpr std::int64_t kDefaultMaxBlocks = 2'000'000;
 inline constexpr std::array<std::string_view, 6> kBoxFaceNames = {"-x", "+x", "-y",
                                                                   "+y", "-z", "+z"};
 
+/// What becomes of a sliver: a free block (kept, in no cluster) under the size or shape limits,
+/// which only cuts exempt from them leave (docs/design.md, "Clusters and slivers").
+enum class SliverRule {
+  join,     // it joins the cluster of the kept neighbour it touches most
+  excavate  // next to an excavated block, within min_inscribed_diameter: removed with it; else join
+};
+inline constexpr std::array<std::string_view, 2> kSliverRuleNames = {"join", "excavate"};
+
 struct SliceOptions {
   JointOrder order = JointOrder::as_given;
   double min_inscribed_diameter = 0;            // 0 = no size limit
@@ -77,6 +85,7 @@ struct SliceOptions {
   // Bit k: blocks that touch face kBoxFaceNames[k] of the domain's bounding box are fixed
   // (kFixed): boundary conditions without boundary joints ([options] fixed_faces).
   std::uint8_t fixed_faces = 0;
+  SliverRule slivers = SliverRule::join;  // [options] slivers
 };
 
 /// How a [[sets]] entry says how many joints it has (DESIGN section 8).

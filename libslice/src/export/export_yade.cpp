@@ -141,11 +141,17 @@ progress('%d clumps' % len(clump_of_cluster))
 
 # The volume of each rigid body: a clump moves as one, so its thin members (pieces cut off by a
 # construction joint exempt from the size limit) do not set the time step; its whole volume does.
+# Fixed bodies never move and set none: the smallest body that moves does (slice-export and
+# slice-info report the same figure).
 volume_of_body = {}
+fixed_body = set()
 for row in BLOCKS:
     body = ('clump', row[3]) if row[3] in clump_of_cluster else ('block', row[0])
     volume_of_body[body] = volume_of_body.get(body, 0.0) + row[4]
-smallest = min(list(volume_of_body.values()) + [1.0])
+    if row[1]:
+        fixed_body.add(body)
+moving = [v for body, v in volume_of_body.items() if body not in fixed_body]
+smallest = min(moving) if moving else 1.0
 
 )";
   if (!pb) {
@@ -266,6 +272,9 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
     if (d.cluster >= 0) ++cluster_size[d.cluster];
   for (const auto& [c, n] : cluster_size) st.clumps += n >= 2 ? 1 : 0;
   st.bodies = bodies.size();
+  st.dem = dem_bodies(bs);
+  // Both scripts set O.dt by the same rule.
+  st.timestep = yade_timestep(st.dem, opt.density, opt.young, opt.timestep_factor);
 
   PartialFile part(out);
   {

@@ -575,6 +575,8 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
     g.write_attribute("tolerance", js.options.tolerance);
     g.write_attribute<std::int64_t>("max_blocks", js.options.max_blocks);
     g.write_attribute<std::string>("fixed_faces", fixed_faces_string(js.options.fixed_faces));
+    g.write_attribute<std::string>("slivers",
+                                   std::string(kSliverRuleNames[std::size_t(js.options.slivers)]));
   }
   if (js.rock.given) {  // [rock]: intact rock for rock-bridge contacts (docs/3dec.md)
     const Group g = root.create_group("rock");
@@ -1082,6 +1084,13 @@ JointSystem read_joint_groups(const Group& root) {
         fail(g, "/options attribute fixed_faces is \"" + faces +
                     "\"; expected face names -x, +x, -y, +y, -z, +z joined by commas");
       js.options.fixed_faces = *bits;
+    }
+    if (g.has_attribute("slivers")) {  // files from before the rule: join (what it did)
+      const auto rule = g.read_attribute<std::string>("slivers");
+      const auto k = std::find(kSliverRuleNames.begin(), kSliverRuleNames.end(), rule);
+      if (k == kSliverRuleNames.end())
+        fail(g, "/options attribute slivers is \"" + rule + "\"; expected join or excavate");
+      js.options.slivers = static_cast<SliverRule>(k - kSliverRuleNames.begin());
     }
   }
   if (root.exists("rock")) {  // files without [rock] (and from before it) have no /rock

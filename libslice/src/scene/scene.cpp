@@ -117,8 +117,8 @@ constexpr std::array<std::string_view, 6> kTunnelKeys = {"point",  "direction", 
 constexpr std::int64_t kDefaultTunnelSides = 16;
 constexpr std::array<std::string_view, 2> kBoxKeys = {"min", "max"};
 constexpr std::array<std::string_view, 2> kPlaneKeys = {"normal", "d"};
-constexpr std::array<std::string_view, 5> kOptionKeys = {
-    "order", "min_inscribed_diameter", "max_aspect_ratio", "max_blocks", "fixed_faces"};
+constexpr std::array<std::string_view, 6> kOptionKeys = {
+    "order", "min_inscribed_diameter", "max_aspect_ratio", "max_blocks", "fixed_faces", "slivers"};
 constexpr std::array<std::string_view, 13> kJointKeys = {
     "dip",      "dip_direction", "point", "polygon", "polygon_uv", "kind",   "friction_angle",
     "cohesion", "keep",          "stage", "limits",  "segment",    "tension"};
@@ -1505,7 +1505,7 @@ void read_rock(const Reader& r, const toml::table& rt, Scene& scene) {
   scene.rock.tension = stress(t, "tension", 0);
 }
 
-// [options]: order, limits, max_blocks, fixed_faces.
+// [options]: order, limits, max_blocks, fixed_faces, slivers.
 void read_options(const Reader& r, const toml::table& ot, Scene& scene) {
   const Tbl t{r, ot, "[options]"};
   t.check_keys(kOptionKeys);
@@ -1524,6 +1524,9 @@ void read_options(const Reader& r, const toml::table& ot, Scene& scene) {
            t.label("max_aspect_ratio") + " is " + fmt(amax) + "; it must be 0 (none) or >= 1",
            "give 0 for no shape limit, or a ratio >= 1 (bounding radius / inscribed radius)");
   scene.options.max_aspect_ratio = amax;
+  if (const toml::node* n = t.find("slivers"))
+    scene.options.slivers =
+        static_cast<SliverRule>(to_choice(r, *n, t.label("slivers"), kSliverRuleNames));
   if (const toml::node* n = t.find("max_blocks")) {
     scene.options.max_blocks = to_integer(r, *n, t.label("max_blocks"));
     if (scene.options.max_blocks < 1)

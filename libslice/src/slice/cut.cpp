@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "../threads.hpp"
+#include "bodies.hpp"
 #include "slice/decide.hpp"
 #include "slice/error.hpp"
 #include "slice/estimate.hpp"
@@ -784,7 +785,17 @@ class Cutter {
       stats_.removed += (b.flags & kRemoved) ? 1 : 0;
     }
     if (js_.options.fixed_faces) mark_fixed();
-    find_clusters();
+    // Clusters, and the slivers exempt cuts leave (bodies.hpp): removed with an excavation, or
+    // joined to a neighbour.
+    const BodyStats b = form_bodies(blocks_, js_, referees_.local(), ctx_.tol);
+    stats_.clusters = b.clusters;
+    stats_.lps.contact += b.contact_lps;
+    stats_.lps.extents += b.reach_lps;
+    stats_.lps.failed += b.failed;
+    stats_.removed += b.slivers_removed;
+    stats_.slivers_removed = b.slivers_removed;
+    stats_.slivers_joined = b.slivers_joined;
+    stats_.slivers_left = b.slivers_left;
   }
 
   // [options] fixed_faces: a block that reaches a named face of the domain's bounding box, to
@@ -835,74 +846,6 @@ class Cutter {
       return c.centre;
     }
     return e.centre;
-  }
-
-  // Clusters (DESIGN section 4): blocks touching across a construction face with positive
-  // contact area, found at the end: two blocks with opposite faces of the same construction
-  // joint whose other faces leave a region of the shared plane with positive area. A removed
-  // block joins no cluster, so nothing kept is joined through one (kept blocks at a slope face
-  // would otherwise chain through the removed air blocks into one clump).
-  void find_clusters() {
-    Referee& referee = referees_.local();
-    std::vector<std::size_t> parent(blocks_.size());
-    std::iota(parent.begin(), parent.end(), 0);
-    const auto root = [&](std::size_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
-    struct Side {
-      std::size_t block, face;
-    };
-    std::vector<std::vector<Side>> below(js_.joints.size()), above(js_.joints.size());
-    for (std::size_t i = 0; i < blocks_.size(); ++i) {
-      const Block& b = blocks_[i];
-      if (b.flags & kRemoved) continue;
-      for (std::size_t f = 0; f < b.faces.size(); ++f) {
-        const auto j = b.faces[f].joint;
-        if (j < 0 || js_.joints[std::size_t(j)].kind != JointKind::construction) continue;
-        const bool is_below = b.faces[f].normal.dot(js_.joints[std::size_t(j)].plane.normal) > 0;
-        (is_below ? below : above)[std::size_t(j)].push_back({i, f});
-      }
-    }
-    std::vector<Face> merged;
-    for (std::size_t j = 0; j < js_.joints.size(); ++j) {
-      for (const Side& a : below[j]) {
-        const Block& ba = blocks_[a.block];
-        for (const Side& c : above[j]) {
-          const Block& bc = blocks_[c.block];
-          if (root(a.block) == root(c.block)) continue;
-          const double gap = (ba.bsphere.head<3>() - bc.bsphere.head<3>()).norm();
-          if (gap >= ba.bsphere[3] + bc.bsphere[3]) continue;
-          // Both blocks' other faces, in ba's frame; the cut test on the joint plane.
-          merged.clear();
-          for (std::size_t f = 0; f < ba.faces.size(); ++f)
-            if (f != a.face) merged.push_back(ba.faces[f]);
-          const Vec3 shift = bc.origin - ba.origin;
-          for (std::size_t f = 0; f < bc.faces.size(); ++f)
-            if (f != c.face) {
-              Face g = bc.faces[f];
-              g.d += g.normal.dot(shift);
-              merged.push_back(g);
-            }
-          const Plane plane = to_local(js_.joints[j].plane, ba.origin);
-          const CutTest t = referee.cut(merged, plane, {});
-          ++stats_.lps.contact;
-          if (t.status == LpStatus::optimal && t.cuts) parent[root(a.block)] = root(c.block);
-        }
-      }
-    }
-    // Cluster ids 0, 1, ... in order of each cluster's first block; -1 for blocks on their own.
-    std::vector<std::size_t> size(blocks_.size(), 0);
-    for (std::size_t i = 0; i < blocks_.size(); ++i) ++size[root(i)];
-    std::vector<std::int64_t> id(blocks_.size(), -1);
-    std::int64_t next = 0;
-    for (std::size_t i = 0; i < blocks_.size(); ++i) {
-      const std::size_t r = root(i);
-      if (size[r] < 2) continue;
-      if (id[r] < 0) id[r] = next++;
-      blocks_[i].cluster = id[r];
-    }
-    stats_.clusters = std::size_t(next);
   }
 };
 

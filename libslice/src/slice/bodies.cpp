@@ -1,0 +1,240 @@
+#include "bodies.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <tuple>
+
+namespace slice {
+namespace {
+
+/// Disjoint sets of blocks (union by pointing one root at the other, path halving).
+class UnionFind {
+ public:
+  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+  std::size_t root(std::size_t x) {
+    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+    return x;
+  }
+  void join(std::size_t a, std::size_t b) { parent_[root(a)] = root(b); }
+
+ private:
+  std::vector<std::size_t> parent_;
+};
+
+/// A face of a block on a joint's plane.
+struct Side {
+  std::size_t block, face;
+};
+
+/// The faces on each joint's plane, by side: below[j] holds faces whose outward normal points
+/// along the joint's normal (their block lies below the plane), above[j] the others. Only the
+/// joints `wanted` says (all if empty), and only blocks `use` accepts.
+struct SidesByJoint {
+  std::vector<std::vector<Side>> below, above;
+
+  template <typename Wanted, typename Use>
+  SidesByJoint(const std::vector<Block>& blocks, const JointSystem& js, Wanted&& wanted, Use&& use)
+      : below(js.joints.size()), above(js.joints.size()) {
+    for (std::size_t i = 0; i < blocks.size(); ++i) {
+      if (!use(i)) continue;
+      const Block& b = blocks[i];
+      for (std::size_t f = 0; f < b.faces.size(); ++f) {
+        const auto j = b.faces[f].joint;
+        if (j < 0 || !wanted(std::size_t(j))) continue;
+        const bool is_below = b.faces[f].normal.dot(js.joints[std::size_t(j)].plane.normal) > 0;
+        (is_below ? below : above)[std::size_t(j)].push_back({i, f});
+      }
+    }
+  }
+  /// The faces facing face `f` of block `b` across its joint's plane.
+  const std::vector<Side>& facing(const Block& b, std::size_t f, const JointSystem& js) const {
+    const auto j = std::size_t(b.faces[f].joint);
+    return b.faces[f].normal.dot(js.joints[j].plane.normal) > 0 ? above[j] : below[j];
+  }
+};
+
+/// How two blocks touch across the plane of one joint, on which both have a face (a.face and
+/// c.face, facing each other): the inscribed radius of the region of the plane inside both
+/// blocks' other faces. Positive area: touches (the cut test's LP on the plane, DESIGN section
+/// 4's cluster rule). `merged` is scratch.
+struct Contact {
+  bool solved = false;  // an LP was solved (the bounding spheres overlap)
+  bool touches = false;
+  bool failed = false;
+  double size = 0;  // inscribed radius of the shared region (-s* of the cut test)
+};
+
+Contact contact(const std::vector<Block>& blocks, const Side& a, const Side& c,
+                const JointSystem& js, Referee& referee, std::vector<Face>& merged) {
+  const Block& ba = blocks[a.block];
+  const Block& bc = blocks[c.block];
+  Contact out;
+  const double gap = (ba.bsphere.head<3>() - bc.bsphere.head<3>()).norm();
+  if (gap >= ba.bsphere[3] + bc.bsphere[3]) return out;
+  // Both blocks' other faces, in ba's frame; the cut test on the joint plane.
+  merged.clear();
+  for (std::size_t f = 0; f < ba.faces.size(); ++f)
+    if (f != a.face) merged.push_back(ba.faces[f]);
+  const Vec3 shift = bc.origin - ba.origin;
+  for (std::size_t f = 0; f < bc.faces.size(); ++f)
+    if (f != c.face) {
+      Face g = bc.faces[f];
+      g.d += g.normal.dot(shift);
+      merged.push_back(g);
+    }
+  const Plane plane = to_local(js.joints[std::size_t(ba.faces[a.face].joint)].plane, ba.origin);
+  const CutTest t = referee.cut(merged, plane, {});
+  out.solved = true;
+  out.failed = t.status != LpStatus::optimal;
+  out.touches = !out.failed && t.cuts;
+  out.size = -t.s;
+  return out;
+}
+
+/// How far block b reaches behind its face f: d_f - min over b of n_f . x (one LP); negative if
+/// the LP fails.
+double depth_behind(const Block& b, std::size_t f, LpSolver& solver, const Tolerances& tol) {
+  DenseLp& lp = extents_lp(solver, b.faces, tol);
+  lp.c.setZero();
+  for (int k = 0; k < 3; ++k)
+    if (const int column = lp_column(k, tol); column >= 0) lp.c[column] = -b.faces[f].normal[k];
+  const LpResult r = solver.solve(lp);
+  return r.status == LpStatus::optimal ? b.faces[f].d + r.objective : -1;
+}
+
+bool is_fixed(const Block& b) { return (b.flags & (kBoundary | kFixed)) != 0; }
+
+/// Clusters (DESIGN section 4): kept blocks with opposite faces of the same construction joint
+/// whose other faces leave a region of the shared plane with positive area. A removed block
+/// joins no cluster, so nothing kept is joined through one (kept blocks at a slope face would
+/// otherwise chain through the removed air blocks into one clump).
+void join_clusters(const std::vector<Block>& blocks, const JointSystem& js, Referee& referee,
+                   UnionFind& sets, BodyStats& st) {
+  const SidesByJoint sides(
+      blocks, js, [&](std::size_t j) { return js.joints[j].kind == JointKind::construction; },
+      [&](std::size_t i) { return !(blocks[i].flags & kRemoved); });
+  std::vector<Face> merged;
+  for (std::size_t j = 0; j < js.joints.size(); ++j)
+    for (const Side& a : sides.below[j])
+      for (const Side& c : sides.above[j]) {
+        if (sets.root(a.block) == sets.root(c.block)) continue;
+        const Contact k = contact(blocks, a, c, js, referee, merged);
+        st.contact_lps += k.solved ? 1 : 0;
+        st.failed += k.failed ? 1 : 0;
+        if (k.touches) sets.join(a.block, c.block);
+      }
+}
+
+/// A kept block a sliver may join, with what ranks it (larger is better).
+struct Neighbour {
+  std::size_t block;
+  bool sound;  // not a free sliver itself
+  bool alike;  // as fixed as the sliver
+  double size;
+  auto rank() const { return std::make_tuple(sound, alike, size); }
+};
+
+}  // namespace
+
+bool is_sliver(const Block& b, const SliceOptions& o, const Tolerances& tol) {
+  return !within_limits(b.inradius + tol.geometry, b.bsphere[3] - tol.geometry,
+                        o.min_inscribed_diameter, o.max_aspect_ratio);
+}
+
+BodyStats form_bodies(std::vector<Block>& blocks, const JointSystem& js, Referee& referee,
+                      const Tolerances& tol) {
+  BodyStats st;
+  UnionFind sets(blocks.size());
+  join_clusters(blocks, js, referee, sets, st);
+
+  // Free slivers: kept blocks in no cluster under the limits.
+  std::vector<std::size_t> members(blocks.size(), 0);
+  for (std::size_t i = 0; i < blocks.size(); ++i) ++members[sets.root(i)];
+  std::vector<std::size_t> slivers;
+  std::vector<bool> free_sliver(blocks.size(), false);
+  std::vector<bool> wanted(js.joints.size(), false);
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    const Block& b = blocks[i];
+    if ((b.flags & kRemoved) || members[sets.root(i)] > 1 || !is_sliver(b, js.options, tol))
+      continue;
+    slivers.push_back(i);
+    free_sliver[i] = true;
+    for (const Face& f : b.faces)
+      if (f.joint >= 0) wanted[std::size_t(f.joint)] = true;
+  }
+
+  if (!slivers.empty()) {
+    const SidesByJoint sides(
+        blocks, js, [&](std::size_t j) { return bool(wanted[j]); },
+        [](std::size_t) { return true; });
+    std::vector<bool> zone_removed(blocks.size());
+    for (std::size_t i = 0; i < blocks.size(); ++i) zone_removed[i] = blocks[i].flags & kRemoved;
+    // Rule 1 needs a size the excavated surface may move by.
+    const double excavation =
+        js.options.slivers == SliverRule::excavate ? js.options.min_inscribed_diameter : 0.0;
+    std::vector<std::vector<Neighbour>> kept(slivers.size());
+    std::vector<Face> merged;
+    // Pass 1: each sliver's contacts; those behind an excavated face within the minimum size go
+    // with the removed block. Decided against the zones' removals only: order-free.
+    for (std::size_t k = 0; k < slivers.size(); ++k) {
+      const std::size_t s = slivers[k];
+      bool removed = false;
+      for (std::size_t f = 0; f < blocks[s].faces.size(); ++f) {
+        if (blocks[s].faces[f].joint < 0) continue;
+        for (const Side& c : sides.facing(blocks[s], f, js)) {
+          if (c.block == s) continue;
+          const Contact t = contact(blocks, {s, f}, c, js, referee, merged);
+          st.contact_lps += t.solved ? 1 : 0;
+          st.failed += t.failed ? 1 : 0;
+          if (!t.touches) continue;
+          if (!zone_removed[c.block]) {
+            kept[k].push_back({c.block, !free_sliver[c.block],
+                               is_fixed(blocks[c.block]) == is_fixed(blocks[s]), t.size});
+          } else if (!removed && excavation > 0) {
+            ++st.reach_lps;
+            const double depth = depth_behind(blocks[s], f, referee.solver(), tol);
+            removed = depth >= 0 && depth <= excavation + tol.geometry;
+            st.failed += depth < 0 ? 1 : 0;
+          }
+        }
+      }
+      if (removed) {
+        blocks[s].flags |= kRemoved;
+        ++st.slivers_removed;
+      }
+    }
+    // Pass 2: the others join their best kept neighbour (not one pass 1 removed).
+    for (std::size_t k = 0; k < slivers.size(); ++k) {
+      const std::size_t s = slivers[k];
+      if (blocks[s].flags & kRemoved) continue;
+      const Neighbour* best = nullptr;
+      for (const Neighbour& n : kept[k]) {
+        if (blocks[n.block].flags & kRemoved) continue;
+        if (!best || n.rank() > best->rank()) best = &n;  // ties: the first, in face order
+      }
+      if (!best) {
+        ++st.slivers_left;
+        continue;
+      }
+      sets.join(s, best->block);
+      ++st.slivers_joined;
+    }
+  }
+
+  // Cluster ids 0, 1, ... in order of each cluster's first block; -1 for blocks on their own.
+  std::fill(members.begin(), members.end(), 0);
+  for (std::size_t i = 0; i < blocks.size(); ++i) ++members[sets.root(i)];
+  std::vector<std::int64_t> id(blocks.size(), -1);
+  std::int64_t next = 0;
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    const std::size_t r = sets.root(i);
+    blocks[i].cluster = -1;
+    if (members[r] < 2) continue;
+    if (id[r] < 0) id[r] = next++;
+    blocks[i].cluster = id[r];
+  }
+  st.clusters = std::size_t(next);
+  return st;
+}
+
+}  // namespace slice
