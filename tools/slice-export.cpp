@@ -1,6 +1,5 @@
 // slice-export: geom.h5 (blocks with /geometry) -> blocks.vtu for ParaView, a YADE script, or a
 // 3DEC grid with the command file that imports it.
-#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -12,15 +11,6 @@
 #include "slice/export_vtu.hpp"
 #include "slice/export_yade.hpp"
 #include "slice/h5io.hpp"
-
-namespace {
-// x in 3 significant digits ("1.23e-05"), for the summary lines.
-std::string sci(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
-}  // namespace
 
 int main(int argc, char** argv) {
   tool::Tool t{"slice-export",
@@ -104,20 +94,14 @@ int main(int argc, char** argv) {
       t.say(std::to_string(st.blocks) + " blocks (" + std::to_string(st.removed) +
             " removed left out), " + std::to_string(st.faces) + " faces, " +
             std::to_string(st.contacts) + " joint contacts (" + std::to_string(st.bridge_contacts) +
-            " rock bridges), TOL " + sci(st.tol) + " -> " + out);
+            " rock bridges), TOL " + tool::sig(st.tol, 3) + " -> " + out);
       t.say(std::to_string(st.fixed) + " blocks in group boundary (fixed), " +
             std::to_string(st.clusters) + " clusters joined, " + std::to_string(st.joint_sets) +
             " joint sets with properties -> " + commands);
-      const std::string body = st.min_is_cluster ? "cluster " + std::to_string(st.min_body)
-                                                 : "block " + std::to_string(st.min_body);
-      t.say((st.smallest_id > 0 ? "smallest free block: id " + std::to_string(st.smallest_id) +
-                                      ", volume " + sci(st.smallest_volume) + " m3, inradius " +
-                                      sci(st.smallest_inradius) + " m; "
-                                : std::string("no free block; ")) +
-            (st.critical_timestep > 0 ? "3DEC critical time step " + sci(st.critical_timestep) +
-                                            " s (lightest body " + body + ", " + sci(st.min_mass) +
-                                            " kg; k_max " + sci(st.max_contact_stiffness) + " N/m)"
-                                      : std::string("no free body sets a time step")));
+      t.say(tool::smallest_bodies_line(st.dem) + " -> 3DEC critical time step " +
+            tool::sig(st.critical_timestep, 4) + " s (0.1 x 2 sqrt(m / k): m " +
+            tool::sig(st.min_mass, 4) + " kg at density " + tool::sig(tdec.density, 6) +
+            ", k = jkn x largest contact " + tool::sig(st.max_contact_stiffness, 4) + " N/m)");
       t.exit_now();
       return;
     }

@@ -32,6 +32,7 @@
 #include <cstdint>
 #include <filesystem>
 
+#include "slice/dem.hpp"
 #include "slice/h5io.hpp"
 
 namespace slice {
@@ -59,15 +60,10 @@ struct ThreeDecStats {
   std::size_t fixed = 0;            // in group "boundary"
   std::size_t clusters = 0;         // joined groups "cluster-c"
   double tol = 0;                   // the TOL line
-  // What sets the time step. The smallest free block (kept, not fixed, in no cluster of two or
-  // more kept blocks): its 3DEC ID (row + 1; 0 if there is none), volume, inradius.
-  std::int64_t smallest_id = 0;
-  double smallest_volume = 0, smallest_inradius = 0;
-  // The lightest free body: a free block, or a joined cluster (the sum of its pieces) with no
-  // fixed piece; its mass [kg] and what it is (a block ID, or cluster + its cluster id).
-  double min_mass = 0;
-  bool min_is_cluster = false;
-  std::int64_t min_body = 0;
+  // What sets the time step: the bodies (dem.hpp: a joined cluster is one body), the mass of
+  // the smallest moving one, the largest contact and 3DEC's critical time step.
+  DemBodies dem;
+  double min_mass = 0;               // kg, density x dem.moving_volume
   double max_contact_area = 0;       // m2, the largest JS contact (or face, if none)
   double max_contact_stiffness = 0;  // N/m, jkn x max_contact_area
   double critical_timestep = 0;      // s; 0 if there is no free body

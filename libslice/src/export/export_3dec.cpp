@@ -284,30 +284,11 @@ std::map<std::int64_t, std::vector<std::size_t>> joined_clusters(const BlockSyst
 
 bool is_fixed(const Block& b) { return b.flags & (kBoundary | kFixed); }
 
-/// The smallest free block and 3DEC's critical time step (ThreeDecStats).
+/// The bodies and 3DEC's critical time step (ThreeDecStats).
 void time_step(const BlockSystem& bs, const ThreeDecOptions& opt,
-               const std::map<std::int64_t, std::vector<std::size_t>>& clusters,
                const std::vector<Contact>& contacts, ThreeDecStats& st) {
   const Geometry& g = *bs.geometry;
-  double min_volume = INFINITY;
-  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
-    const Block& blk = bs.blocks[b];
-    if ((blk.flags & kRemoved) || is_fixed(blk) || clusters.count(blk.cluster)) continue;
-    if (g.volume[b] < min_volume) {
-      min_volume = g.volume[b];
-      st.smallest_id = std::int64_t(b) + 1;
-      st.smallest_volume = g.volume[b];
-      st.smallest_inradius = blk.inradius;
-    }
-  }
-  if (st.smallest_id > 0) st.min_body = st.smallest_id;
-  for (const auto& [c, ids] : clusters) {
-    double v = 0;
-    bool fixed = false;
-    for (const std::size_t id : ids)
-      v += g.volume[id - 1], fixed = fixed || is_fixed(bs.blocks[id - 1]);
-    if (!fixed && v < min_volume) min_volume = v, st.min_is_cluster = true, st.min_body = c;
-  }
+  st.dem = dem_bodies(bs);
   for (const Contact& c : contacts) st.max_contact_area = std::max(st.max_contact_area, c.area);
   if (contacts.empty()) {  // no JS contact: bound by the largest face of a kept block
     std::size_t row = 0;
@@ -317,8 +298,8 @@ void time_step(const BlockSystem& bs, const ThreeDecOptions& opt,
           st.max_contact_area = std::max(st.max_contact_area, g.face_area[row]);
   }
   st.max_contact_stiffness = opt.jkn * st.max_contact_area;
-  if (!std::isfinite(min_volume) || !(st.max_contact_stiffness > 0)) return;
-  st.min_mass = opt.density * min_volume;
+  if (st.dem.moving_block < 0 || !(st.max_contact_stiffness > 0)) return;
+  st.min_mass = opt.density * st.dem.moving_volume;
   // 3DEC theory, rigid blocks: dt = frac x 2 sqrt(m_min / k_max) (docs/3dec.md).
   st.critical_timestep =
       kThreeDecTimestepFrac * 2 * std::sqrt(st.min_mass / st.max_contact_stiffness);
@@ -513,7 +494,7 @@ ThreeDecStats write_3dec(const std::filesystem::path& grid, const std::filesyste
   const auto contacts = find_contacts(bs, ids, bs.joints.rock.given);
   const auto clusters = joined_clusters(bs);
   st.tol = grid_tol(bs);
-  time_step(bs, opt, clusters, contacts, st);
+  time_step(bs, opt, contacts, st);
   TextOut g(grid);
   TextOut c(commands);
   write_grid(g, bs, st, contacts);
