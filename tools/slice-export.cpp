@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <tuple>
 
 #include "common/tool.hpp"
 #include "slice/error.hpp"
@@ -13,16 +14,25 @@
 
 int main(int argc, char** argv) {
   tool::Tool t{"slice-export",
-               "Export blocks with vertices (slice-vertices) to VTU for ParaView or to YADE."};
+               "Export blocks with vertices (slice-vertices) to VTU for ParaView, YADE or 3DEC."};
   std::string in, out, format = "vtu", joints;
   slice::YadeOptions yade;  // defaults live in the library
   t.cli.add_option("geometry", in, "geom.h5 from slice-vertices")->required();
-  t.cli.add_option("-o,--output", out, "output file (blocks.vtu, model.py)")->required();
+  t.cli.add_option("-o,--output", out, "output file (blocks.vtu, model.py, model.3dgrid)")
+      ->required();
   t.cli.add_option("--format", format, "vtu | yade | yade-potential-blocks | 3dec")
       ->capture_default_str();
   std::string commands;
   t.cli.add_option("--3dec-commands", commands,
                    "3dec: the command file that imports the grid (default: -o with .dat)");
+  slice::ThreeDecOptions tdec;  // defaults live in the library
+  for (const auto& [name, value, help] :
+       {std::tuple{"--3dec-density", &tdec.density, "3dec: rock density [kg/m3]"},
+        std::tuple{"--3dec-jkn", &tdec.jkn, "3dec: joint normal stiffness [Pa/m]"},
+        std::tuple{"--3dec-jks", &tdec.jks, "3dec: joint shear stiffness [Pa/m]"},
+        std::tuple{"--3dec-friction", &tdec.friction_deg,
+                   "3dec: friction angle [deg] of contacts on no JS line (joint set 0)"}})
+    t.cli.add_option(name, *value, help)->capture_default_str();
   t.cli.add_option("--joints", joints, "vtu: also write the joints inside the domain to this VTU");
   std::string compressor = "lz4";
   t.cli
@@ -61,6 +71,7 @@ int main(int argc, char** argv) {
                                 {"--joints", joints},
                                 {"--3dec-commands", commands}});
     yade.validate();
+    tdec.validate();
     const auto vtu_compressor = slice::parse_vtu_compressor(compressor, "--vtu-compressor");
     const slice::BlockSystem bs = slice::read_blocks(in);
     if (!bs.geometry)
@@ -79,12 +90,18 @@ int main(int argc, char** argv) {
       return;
     }
     if (format == "3dec") {
-      const auto st = slice::write_3dec(out, commands, bs);
+      const auto st = slice::write_3dec(out, commands, bs, tdec);
       t.say(std::to_string(st.blocks) + " blocks (" + std::to_string(st.removed) +
             " removed left out), " + std::to_string(st.faces) + " faces, " +
-            std::to_string(st.contacts) + " joint contacts -> " + out);
+            std::to_string(st.contacts) + " joint contacts (" + std::to_string(st.bridge_contacts) +
+            " rock bridges), TOL " + tool::sig(st.tol, 3) + " -> " + out);
       t.say(std::to_string(st.fixed) + " blocks in group boundary (fixed), " +
-            std::to_string(st.clusters) + " cluster groups -> " + commands);
+            std::to_string(st.clusters) + " clusters joined, " + std::to_string(st.joint_sets) +
+            " joint sets with properties -> " + commands);
+      t.say(tool::smallest_bodies_line(st.dem) + " -> 3DEC critical time step " +
+            tool::sig(st.critical_timestep, 4) + " s (0.1 x 2 sqrt(m / k): m " +
+            tool::sig(st.min_mass, 4) + " kg at density " + tool::sig(tdec.density, 6) +
+            ", k = jkn x largest contact " + tool::sig(st.max_contact_stiffness, 4) + " N/m)");
       t.exit_now();
       return;
     }

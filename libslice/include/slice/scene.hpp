@@ -49,6 +49,7 @@ struct Joint {
   std::vector<Vec2> polygon_uv;   // convex, counter-clockwise in the plane frame (orientation.hpp)
                                   // about centre; empty = persistent
   bool limits = true;             // false: the size and shape limits never undo this joint's cuts
+  double tension = 0;             // Pa, tensile strength (>= 0)
   bool persistent() const { return polygon_uv.empty(); }
 };
 
@@ -142,6 +143,7 @@ struct JointSetSpec {
   JointKind kind = JointKind::rock;
   std::int8_t boundary_side = 0;
   std::int64_t joint_count = 0;  // generated joints that meet the domain
+  double tension = 0;            // Pa, tensile strength (>= 0)
 
   // Stochastic sets (every intensity but spacing).
   SetIntensity intensity = SetIntensity::spacing;
@@ -174,6 +176,16 @@ struct JointSetSpec {
   double achieved_p10 = 0;        // joints crossing the scanline / its length
 };
 
+/// Intact rock, the scene's [rock] table: the strength a DEM export gives a contact through
+/// intact rock (a rock bridge: where a cut extended a finite joint beyond its polygon,
+/// /geometry/face_joint_fraction < 1). joints.h5: attributes of /rock.
+struct RockSpec {
+  bool given = false;  // the scene has a [rock] table (files without /rock: false)
+  double friction_angle_deg = 30;
+  double cohesion = 0;  // Pa
+  double tension = 0;   // Pa
+};
+
 /// Where a [[joints]] or [[sets]] entry stands in the introduction sequence (issue 13): stages
 /// in increasing order (`stage = N`, default 1), each stage's entries in file order.
 struct EntryPlace {
@@ -194,6 +206,7 @@ struct Scene {
   std::vector<Joint> joints;  // [[joints]], in file order, then the construction joints of
                               // [[zones]] tunnels with cut = true (tunnel.hpp), zone by zone
   std::vector<JointSetSpec> sets;
+  RockSpec rock;
   std::vector<Region> zones;              // a [[zones]] tunnel may give several (tunnel_regions)
   std::vector<TriangleMesh> zone_meshes;  // [[zones]] mesh: closed meshes (mesh.hpp)
   std::vector<EntryPlace> joint_places;   // one per joint: its [[joints]] entry or its zone
@@ -212,6 +225,7 @@ struct JointSystem {
   SliceOptions options;
   std::vector<Joint> joints;  // in the order they will be introduced (options.order)
   std::vector<JointSetSpec> sets;
+  RockSpec rock;
   std::vector<Region> zones;
   /// Removal zones of any shape: closed triangle meshes (a block whose centre is inside one is
   /// removed, as for `zones`). HDF5 /zones/mesh_*.
@@ -220,7 +234,8 @@ struct JointSystem {
 
 /// The keys a scene file's tables accept, from the lists the parser checks them against (for
 /// docs/scenes.md and the test that it names them all). `table` is "" for the top level, whose
-/// keys are the tables, or a table: "scene", "domain", "options", "joints", "sets", "zones";
+/// keys are the tables, or a table: "scene", "domain", "options", "joints", "sets", "zones",
+/// "rock";
 /// `within` is "" or an inline table of it ("box", "planes", "size", "scanline", "tunnel").
 struct SceneKeys {
   std::string_view table;

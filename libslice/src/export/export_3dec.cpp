@@ -4,6 +4,7 @@
 #include <array>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -16,6 +17,7 @@
 #include "slice/orientation.hpp"
 #include "slice/output.hpp"
 #include "slice/version.hpp"
+#include "slice/vertices.hpp"
 
 namespace slice {
 namespace {
@@ -70,6 +72,28 @@ class TextOut {
   std::string buf_;
 };
 
+std::string num_text(double v) {
+  std::string s;
+  put_num(s, v);
+  return s;
+}
+
+/// The joint-set ID of each joint (export_3dec.hpp): set s -> s + 1, the k-th joint with set -1
+/// -> sets + 1 + k. `count` IDs in all; a rock bridge of ID i has ID i + count.
+struct JointSetIds {
+  std::vector<std::size_t> of_joint;
+  std::size_t count = 0;
+};
+
+JointSetIds joint_set_ids(const JointSystem& js) {
+  JointSetIds ids;
+  std::size_t k = 0;
+  for (const Joint& j : js.joints)
+    ids.of_joint.push_back(j.set >= 0 ? std::size_t(j.set) + 1 : js.sets.size() + 1 + k++);
+  ids.count = js.sets.size() + k;
+  return ids;
+}
+
 /// A face of a kept block on a rock or boundary joint, for the contact search.
 struct JointFace {
   std::int64_t joint;
@@ -79,10 +103,17 @@ struct JointFace {
 
 /// A face polygon in the joint's plane coordinates, with its box.
 struct Flat {
-  std::size_t block;
+  std::size_t block, row;
   bool plus;
-  std::vector<Vec2> pts;
+  std::vector<Vec2> pts;  // in the joint's (u, v)
+  std::vector<Vec3> xs;   // the same, global
   Vec2 lo, hi;
+};
+
+/// A contact of the JS lines: two kept blocks (rows a < b) facing each other on a joint.
+struct Contact {
+  std::size_t js, a, b;
+  double area;  // of the overlap of the two faces
 };
 
 /// Do two convex polygons of one plane overlap with positive area (by more than tol across
@@ -104,8 +135,21 @@ bool overlap(const Flat& a, const Flat& b, double tol) {
   return true;
 }
 
-/// The contacts across rock and boundary joints: (JS id, block, block), sorted, each once.
-std::vector<std::array<std::size_t, 3>> find_contacts(const BlockSystem& bs) {
+/// The area of the intersection of two convex polygons of one plane (global frame): `a` clipped
+/// by the inner side of each edge of `b`.
+double overlap_area(std::vector<Vec3> a, const std::vector<Vec3>& b) {
+  const Vec3 n = newell_normal(b);  // b runs counter-clockwise about n
+  for (std::size_t i = 0; i < b.size() && a.size() >= 3; ++i) {
+    const Vec3 out = (b[(i + 1) % b.size()] - b[i]).cross(n).normalized();
+    a = clip_polygon(a, Plane{out, out.dot(b[i])});
+  }
+  return a.size() < 3 ? 0 : newell_normal(a).norm() / 2;
+}
+
+/// The contacts across rock and boundary joints, sorted by (JS ID, a, b), each pair once. With
+/// `bridges`, a contact at most half of which lies on its joint's polygon is a rock bridge: the
+/// part of the contact on the polygon is at most the part of either face on it (fraction x area).
+std::vector<Contact> find_contacts(const BlockSystem& bs, const JointSetIds& ids, bool bridges) {
   const Geometry& g = *bs.geometry;
   const JointSystem& js = bs.joints;
   const double tol = js.options.tolerance * js.length_scale;
@@ -123,24 +167,27 @@ std::vector<std::array<std::size_t, 3>> find_contacts(const BlockSystem& bs) {
   }
   std::stable_sort(faces.begin(), faces.end(),
                    [](const JointFace& x, const JointFace& y) { return x.joint < y.joint; });
-  std::vector<std::array<std::size_t, 3>> contacts;
+  std::vector<Contact> contacts;
   std::vector<Flat> flats;
   std::vector<std::size_t> order, active;
+  const auto open_area = [&](std::size_t r) { return g.face_joint_fraction[r] * g.face_area[r]; };
   for (std::size_t lo = 0; lo < faces.size();) {
     std::size_t hi = lo;
     while (hi < faces.size() && faces[hi].joint == faces[lo].joint) ++hi;
     const Joint& joint = js.joints[std::size_t(faces[lo].joint)];
     const JointFrame fr = plane_frame(joint.dip_deg, joint.dip_direction_deg);
-    const std::size_t set_id = joint.set >= 0 ? std::size_t(joint.set) + 1 : js.sets.size() + 1;
+    const std::size_t set_id = ids.of_joint[std::size_t(faces[lo].joint)];
     flats.clear();
     for (std::size_t k = lo; k < hi; ++k) {
       const JointFace& jf = faces[k];
-      Flat fl{jf.block, jf.plus, {}, Vec2::Constant(INFINITY), Vec2::Constant(-INFINITY)};
+      Flat fl{
+          jf.block, jf.row, jf.plus, {}, {}, Vec2::Constant(INFINITY), Vec2::Constant(-INFINITY)};
       const auto base = g.vertex_offset[jf.block];
       for (auto v = g.face_vertex_offset[jf.row]; v < g.face_vertex_offset[jf.row + 1]; ++v) {
         const Vec3& x = g.vertices[std::size_t(base + g.face_vertices[std::size_t(v)])];
         const Vec2 q(fr.u.dot(x), fr.v.dot(x));
         fl.pts.push_back(q);
+        fl.xs.push_back(x);
         fl.lo = fl.lo.cwiseMin(q);
         fl.hi = fl.hi.cwiseMax(q);
       }
@@ -159,15 +206,23 @@ std::vector<std::array<std::size_t, 3>> find_contacts(const BlockSystem& bs) {
       for (const std::size_t a : active) {
         const Flat& o = flats[a];
         if (o.plus == f.plus || o.hi.y() <= f.lo.y() + tol || f.hi.y() <= o.lo.y() + tol) continue;
-        if (overlap(f, o, tol))
-          contacts.push_back({set_id, std::min(f.block, o.block), std::max(f.block, o.block)});
+        if (!overlap(f, o, tol)) continue;
+        const double area = overlap_area(f.xs, o.xs);
+        const bool bridge = bridges && std::min(open_area(f.row), open_area(o.row)) < 0.5 * area;
+        contacts.push_back({set_id + (bridge ? ids.count : 0), std::min(f.block, o.block),
+                            std::max(f.block, o.block), area});
       }
       active.push_back(k);
     }
     lo = hi;
   }
-  std::sort(contacts.begin(), contacts.end());
-  contacts.erase(std::unique(contacts.begin(), contacts.end()), contacts.end());
+  const auto key = [](const Contact& c) { return std::tie(c.js, c.a, c.b); };
+  std::sort(contacts.begin(), contacts.end(), [&](const Contact& x, const Contact& y) {
+    return std::tie(x.js, x.a, x.b, x.area) < std::tie(y.js, y.a, y.b, y.area);
+  });
+  contacts.erase(std::unique(contacts.begin(), contacts.end(),
+                             [&](const Contact& x, const Contact& y) { return key(x) == key(y); }),
+                 contacts.end());
   return contacts;
 }
 
@@ -184,14 +239,83 @@ std::vector<std::string> id_ranges(const std::vector<std::size_t>& ids) {
   return out;
 }
 
+/// The TOL line's value (export_3dec.hpp): 3DEC's default ATOL, at most a fifth of the shortest
+/// edge, at least the scene's own tolerance.
+double grid_tol(const BlockSystem& bs) {
+  const Geometry& g = *bs.geometry;
+  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+  double shortest = INFINITY;
+  std::size_t row = 0;
+  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
+    const std::size_t nf = bs.blocks[b].faces.size();
+    if (bs.blocks[b].flags & kRemoved) {
+      row += nf;
+      continue;
+    }
+    const auto base = g.vertex_offset[b];
+    for (auto v = base; v < g.vertex_offset[b + 1]; ++v) {
+      lo = lo.cwiseMin(g.vertices[std::size_t(v)]);
+      hi = hi.cwiseMax(g.vertices[std::size_t(v)]);
+    }
+    for (std::size_t f = 0; f < nf; ++f, ++row) {
+      const auto first = g.face_vertex_offset[row], last = g.face_vertex_offset[row + 1];
+      for (auto k = first; k < last; ++k) {
+        const auto next = k + 1 < last ? k + 1 : first;
+        const Vec3& p = g.vertices[std::size_t(base + g.face_vertices[std::size_t(k)])];
+        const Vec3& q = g.vertices[std::size_t(base + g.face_vertices[std::size_t(next)])];
+        shortest = std::min(shortest, (q - p).norm());
+      }
+    }
+  }
+  const double floor = bs.joints.options.tolerance * bs.joints.length_scale;
+  if (!(hi.x() >= lo.x())) return floor;
+  return std::max(floor, std::min(0.0012 * (hi - lo).sum() / 3, 0.2 * shortest));
+}
+
+/// The kept blocks of each cluster with two or more kept blocks (3DEC IDs: rows + 1, ascending).
+std::map<std::int64_t, std::vector<std::size_t>> joined_clusters(const BlockSystem& bs) {
+  std::map<std::int64_t, std::vector<std::size_t>> clusters;
+  for (std::size_t b = 0; b < bs.blocks.size(); ++b)
+    if (!(bs.blocks[b].flags & kRemoved) && bs.blocks[b].cluster >= 0)
+      clusters[bs.blocks[b].cluster].push_back(b + 1);
+  std::erase_if(clusters, [](const auto& c) { return c.second.size() < 2; });
+  return clusters;
+}
+
+bool is_fixed(const Block& b) { return b.flags & (kBoundary | kFixed); }
+
+/// The bodies and 3DEC's critical time step (ThreeDecStats).
+void time_step(const BlockSystem& bs, const ThreeDecOptions& opt,
+               const std::vector<Contact>& contacts, ThreeDecStats& st) {
+  const Geometry& g = *bs.geometry;
+  st.dem = dem_bodies(bs);
+  for (const Contact& c : contacts) st.max_contact_area = std::max(st.max_contact_area, c.area);
+  if (contacts.empty()) {  // no JS contact: bound by the largest face of a kept block
+    std::size_t row = 0;
+    for (const Block& blk : bs.blocks)
+      for (std::size_t f = 0; f < blk.faces.size(); ++f, ++row)
+        if (!(blk.flags & kRemoved))
+          st.max_contact_area = std::max(st.max_contact_area, g.face_area[row]);
+  }
+  st.max_contact_stiffness = opt.jkn * st.max_contact_area;
+  if (st.dem.moving_block < 0 || !(st.max_contact_stiffness > 0)) return;
+  st.min_mass = opt.density * st.dem.moving_volume;
+  // 3DEC theory, rigid blocks: dt = frac x 2 sqrt(m_min / k_max) (docs/3dec.md).
+  st.critical_timestep =
+      kThreeDecTimestepFrac * 2 * std::sqrt(st.min_mass / st.max_contact_stiffness);
+}
+
 void write_grid(TextOut& out, const BlockSystem& bs, ThreeDecStats& st,
-                const std::vector<std::array<std::size_t, 3>>& contacts) {
+                const std::vector<Contact>& contacts) {
   const Geometry& g = *bs.geometry;
   std::string& s = out.buf();
-  s += "* rockslice " + std::string(version()) + ": 3DEC grid of scene " + bs.joints.name +
-       ", rigid blocks (block import filename \"...\")\n";
+  // The scene's name with control characters escaped: a comment line stays one line.
+  s += "* rockslice " + std::string(version()) + ": 3DEC grid of scene \"" +
+       escape_control(bs.joints.name) + "\", rigid blocks (block import filename \"...\")\n";
   s += "* Block IDs are rows of blocks.h5 + 1; faces go clockwise seen from outside.\n";
-  s += "* GRIDPOINTS\n";
+  s += "TOL ";
+  put_num(s, st.tol);
+  s += "\n* GRIDPOINTS\n";
   std::size_t gp = 0;
   for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
     if (bs.blocks[b].flags & kRemoved) continue;
@@ -238,59 +362,121 @@ void write_grid(TextOut& out, const BlockSystem& bs, ThreeDecStats& st,
     ++st.blocks;
     out.maybe_flush();
   }
-  s += "* JOINT SETS: contacts across rock and boundary joints, JS set+1 block-block\n";
+  s += "* JOINT SETS: contacts across rock and boundary joints (docs/3dec.md gives the IDs)\n";
   for (std::size_t i = 0; i < contacts.size();) {
-    const std::size_t id = contacts[i][0];
+    const std::size_t id = contacts[i].js;
     s += "JS " + std::to_string(id);
-    for (std::size_t n = 0; n < 8 && i < contacts.size() && contacts[i][0] == id; ++n, ++i)
-      s += ' ' + std::to_string(contacts[i][1] + 1) + '-' + std::to_string(contacts[i][2] + 1);
+    for (std::size_t n = 0; n < 8 && i < contacts.size() && contacts[i].js == id; ++n, ++i)
+      s += ' ' + std::to_string(contacts[i].a + 1) + '-' + std::to_string(contacts[i].b + 1);
     s += '\n';
     out.maybe_flush();
   }
   st.contacts = contacts.size();
 }
 
-void write_commands(TextOut& out, const std::filesystem::path& grid,
-                    const std::filesystem::path& commands, const BlockSystem& bs,
-                    ThreeDecStats& st) {
-  const bool same_dir = std::filesystem::absolute(grid).parent_path() ==
-                        std::filesystem::absolute(commands).parent_path();
-  const std::string name =
-      same_dir ? grid.filename().string() : std::filesystem::absolute(grid).string();
+/// `text` as a 3DEC string: in double quotes, or in single quotes if it holds a double quote.
+/// Nothing quotes a control character or both quote marks: Error naming `file`.
+std::string quoted(const std::string& text, const std::filesystem::path& file) {
+  if (std::any_of(text.begin(), text.end(),
+                  [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+    throw Error(file.string(), "its name holds a control character, which no 3DEC string can hold",
+                "give the grid file a name without control characters");
+  const char q = text.find('"') == std::string::npos ? '"' : '\'';
+  if (text.find(q) != std::string::npos)
+    throw Error(file.string(),
+                "its name holds both quote marks (\" and '), which no 3DEC string "
+                "can hold",
+                "give the grid file a name without one of them");
+  return q + text + q;
+}
+
+/// The Mohr-Coulomb properties of a contact, as a `block contact property` command.
+void put_properties(std::string& s, const ThreeDecOptions& opt, double friction, double cohesion,
+                    double tension) {
+  s += "block contact property stiffness-normal " + num_text(opt.jkn) + " stiffness-shear " +
+       num_text(opt.jks) + " friction " + num_text(friction) + " cohesion " + num_text(cohesion) +
+       " tension " + num_text(tension);
+}
+
+void write_commands(TextOut& out, const std::string& grid_name, const BlockSystem& bs,
+                    const ThreeDecOptions& opt, const JointSetIds& ids,
+                    const std::map<std::int64_t, std::vector<std::size_t>>& clusters,
+                    const std::vector<Contact>& contacts, ThreeDecStats& st) {
+  const JointSystem& js = bs.joints;
   std::vector<std::size_t> fixed;
-  std::map<std::int64_t, std::vector<std::size_t>> clusters;
-  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
-    const Block& blk = bs.blocks[b];
-    if (blk.flags & kRemoved) continue;
-    if (blk.flags & (kBoundary | kFixed)) fixed.push_back(b + 1);
-    if (blk.cluster >= 0) clusters[blk.cluster].push_back(b + 1);
-  }
+  for (std::size_t b = 0; b < bs.blocks.size(); ++b)
+    if (!(bs.blocks[b].flags & kRemoved) && is_fixed(bs.blocks[b])) fixed.push_back(b + 1);
   std::string& s = out.buf();
-  s += "; rockslice " + std::string(version()) + ": imports the rigid blocks of scene " +
-       bs.joints.name + " into 3DEC (block IDs: rows of blocks.h5 + 1)\n";
-  s += "model new\nblock import filename \"" + name + "\"\n";
+  s += "; rockslice " + std::string(version()) + ": the rigid blocks of scene \"" +
+       escape_control(js.name) + "\" as a 3DEC model (block IDs: rows of blocks.h5 + 1)\n";
+  s += "; critical time step of rigid blocks, 0.1 x 2 sqrt(m_min / k_max): " +
+       num_text(st.critical_timestep) + " s (m_min " + num_text(st.min_mass) + " kg, k_max " +
+       num_text(st.max_contact_stiffness) + " N/m; docs/3dec.md)\n";
+  s += "model new\nblock import filename " + grid_name + "\n";
+  s += "block property density " + num_text(opt.density) + "\nmodel gravity 0 0 -9.81\n";
+  s += "; blocks joined across construction joints (clusters): group \"cluster-<c>\" in slot "
+       "\"cluster\", joined into one block\n";
+  for (const auto& [c, members] : clusters) {
+    const std::string group = "\"cluster-" + std::to_string(c) + "\" slot \"cluster\"";
+    for (const std::string& r : id_ranges(members)) {
+      s += "block group " + group + " range " + r + "\n";
+      out.maybe_flush();
+    }
+    s += "block join range group " + group + "\n";
+  }
+  st.clusters = clusters.size();
   s += "; boundary blocks, and blocks on a face named in fixed_faces: group \"boundary\", fixed\n";
   for (const std::string& r : id_ranges(fixed)) {
     s += "block group \"boundary\" range " + r + "\n";
     out.maybe_flush();
   }
   if (!fixed.empty()) s += "block fix range group \"boundary\"\n";
-  s += "; blocks joined across construction joints (clusters): group \"cluster-<c>\"\n";
-  for (const auto& [c, ids] : clusters) {
-    if (ids.size() < 2) continue;
-    ++st.clusters;
-    for (const std::string& r : id_ranges(ids)) {
-      s += "block group \"cluster-" + std::to_string(c) + "\" range " + r + "\n";
-      out.maybe_flush();
-    }
-  }
   st.fixed = fixed.size();
+  s += "; contacts: Mohr-Coulomb; first all of them (joint set 0: --3dec-friction), then each "
+       "joint set of the grid's JS lines\nblock contact generate-subcontacts\n"
+       "block contact jmodel assign mohr\n";
+  put_properties(s, opt, opt.friction_deg, 0, 0);
+  s += "\n";
+  std::vector<const Joint*> joint_of(ids.count + 1, nullptr);  // by base ID
+  for (std::size_t i = js.joints.size(); i-- > 0;) joint_of[ids.of_joint[i]] = &js.joints[i];
+  std::vector<std::size_t> used;
+  for (const Contact& c : contacts)
+    if (used.empty() || used.back() != c.js) used.push_back(c.js);
+  for (const std::size_t id : used) {
+    const bool bridge = id > ids.count;
+    const Joint& j = *joint_of[bridge ? id - ids.count : id];
+    s += "; JS " + std::to_string(id) + ": " + (bridge ? "rock bridges of " : "");
+    s += j.set >= 0
+             ? "set \"" + escape_control(js.sets[std::size_t(j.set)].name) + "\""
+             : "[[joints]] entry, row " + std::to_string(&j - js.joints.data()) + " of /joints";
+    s += bridge ? ", intact rock ([rock])\n" : "\n";
+    if (bridge)
+      put_properties(s, opt, js.rock.friction_angle_deg, js.rock.cohesion, js.rock.tension);
+    else
+      put_properties(s, opt, j.friction_angle_deg, j.cohesion, j.tension);
+    s += " range joint-set " + std::to_string(id) + "\n";
+  }
+  st.joint_sets = used.size();
+  for (const Contact& c : contacts) st.bridge_contacts += c.js > ids.count ? 1 : 0;
 }
 
 }  // namespace
 
+void ThreeDecOptions::validate() const {
+  const auto positive = [](double v, const char* name) {
+    if (!(std::isfinite(v) && v > 0))
+      throw Error(std::string("--3dec-") + name, "is " + num_text(v), "give a positive number");
+  };
+  positive(density, "density");
+  positive(jkn, "jkn");
+  positive(jks, "jks");
+  if (!(friction_deg >= 0 && friction_deg < 90))
+    throw Error("--3dec-friction", "is " + num_text(friction_deg), "give an angle in [0, 90)");
+}
+
 ThreeDecStats write_3dec(const std::filesystem::path& grid, const std::filesystem::path& commands,
-                         const BlockSystem& bs) {
+                         const BlockSystem& bs, const ThreeDecOptions& opt) {
+  opt.validate();
   // A section's polygons (docs/2d.md) would be UDEC blocks, not 3DEC polyhedra: not written.
   if (bs.joints.dimension == 2)
     throw Error(grid.string(), "is a 2-D section (dimension 2): the 3DEC export is 3-D only",
@@ -298,13 +484,21 @@ ThreeDecStats write_3dec(const std::filesystem::path& grid, const std::filesyste
   if (!bs.geometry)
     throw Error(grid.string(), "the blocks have no vertices (no /geometry)",
                 "run slice-vertices on the blocks file first");
+  const bool same_dir = std::filesystem::absolute(grid).parent_path() ==
+                        std::filesystem::absolute(commands).parent_path();
+  const std::string grid_name =
+      quoted(same_dir ? grid.filename().string() : std::filesystem::absolute(grid).string(), grid);
   ThreeDecStats st;
   for (const Block& b : bs.blocks) st.removed += (b.flags & kRemoved) ? 1 : 0;
-  const auto contacts = find_contacts(bs);
+  const JointSetIds ids = joint_set_ids(bs.joints);
+  const auto contacts = find_contacts(bs, ids, bs.joints.rock.given);
+  const auto clusters = joined_clusters(bs);
+  st.tol = grid_tol(bs);
+  time_step(bs, opt, contacts, st);
   TextOut g(grid);
   TextOut c(commands);
   write_grid(g, bs, st, contacts);
-  write_commands(c, grid, commands, bs, st);
+  write_commands(c, grid_name, bs, opt, ids, clusters, contacts, st);
   g.commit();
   c.commit();
   return st;

@@ -158,6 +158,7 @@ void check_joints(const Checker& c, const JointSystem& js) {
              " (the groups of /sets)");
     c.finite(j.friction_angle_deg, At{"/joints/friction_angle", i});
     c.finite(j.cohesion, At{"/joints/cohesion", i});
+    c.non_negative(j.tension, At{"/joints/tension", i});
     c.side(j.boundary_side, At{"/joints/boundary_side", i});
     if (j.kind == JointKind::boundary && j.boundary_side == 0)
       c.fail(at("/joints/boundary_side", i) + " is 0 for a boundary joint; expected -1 (keep " +
@@ -177,6 +178,7 @@ void check_joints(const Checker& c, const JointSystem& js) {
     c.finite(s.offset, g + "offset");
     c.finite(s.friction_angle_deg, g + "friction_angle");
     c.finite(s.cohesion, g + "cohesion");
+    c.non_negative(s.tension, g + "tension");
     c.kind(s.kind, g + "kind");
     c.side(s.boundary_side, g + "boundary_side");
     if (s.kind == JointKind::boundary && s.boundary_side == 0)
@@ -202,6 +204,8 @@ void check_joints(const Checker& c, const JointSystem& js) {
     c.non_negative(s.achieved_p32, g + "achieved_p32");
     c.non_negative(s.achieved_p10, g + "achieved_p10");
   }
+  for (const double v : {js.rock.cohesion, js.rock.tension}) c.non_negative(v, "/rock attributes");
+  c.finite(js.rock.friction_angle_deg, "/rock attribute friction_angle");
 
   std::size_t zone_row = 0;
   for (const Region& z : js.zones) {
@@ -479,7 +483,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
   }
   {
     const std::size_t n = js.joints.size();
-    std::vector<double> normal, d, centre, dip, dip_direction, friction, cohesion, uv;
+    std::vector<double> normal, d, centre, dip, dip_direction, friction, cohesion, tension, uv;
     std::vector<std::uint8_t> kind, limits;
     std::vector<std::int32_t> set;
     std::vector<std::int8_t> side;
@@ -496,6 +500,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
       set.push_back(j.set);
       friction.push_back(j.friction_angle_deg);
       cohesion.push_back(j.cohesion);
+      tension.push_back(j.tension);
       side.push_back(j.boundary_side);
       for (const Vec2& p : j.polygon_uv) uv.insert(uv.end(), p.data(), p.data() + 2);
       offset.push_back(offset.back() + static_cast<std::int64_t>(j.polygon_uv.size()));
@@ -510,6 +515,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
     g.write<std::int32_t>("set", set);
     g.write<double>("friction_angle", friction);
     g.write<double>("cohesion", cohesion);
+    g.write<double>("tension", tension);
     g.write<std::int8_t>("boundary_side", side);
     g.write<std::uint8_t>("limits", limits);
     g.write<std::int64_t>("polygon_offset", offset);
@@ -528,6 +534,7 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
       sg.write_attribute("offset", s.offset);
       sg.write_attribute("friction_angle", s.friction_angle_deg);
       sg.write_attribute("cohesion", s.cohesion);
+      sg.write_attribute("tension", s.tension);
       sg.write_attribute<std::int64_t>("limits", s.limits ? 1 : 0);
       sg.write_attribute<std::string>("kind", to_string(s.kind));
       sg.write_attribute<std::int64_t>("boundary_side", s.boundary_side);
@@ -570,6 +577,12 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
     g.write_attribute<std::string>("fixed_faces", fixed_faces_string(js.options.fixed_faces));
     g.write_attribute<std::string>("slivers",
                                    std::string(kSliverRuleNames[std::size_t(js.options.slivers)]));
+  }
+  if (js.rock.given) {  // [rock]: intact rock for rock-bridge contacts (docs/3dec.md)
+    const Group g = root.create_group("rock");
+    g.write_attribute("friction_angle", js.rock.friction_angle_deg);
+    g.write_attribute("cohesion", js.rock.cohesion);
+    g.write_attribute("tension", js.rock.tension);
   }
 }
 
@@ -963,6 +976,9 @@ JointSystem read_joint_groups(const Group& root) {
     expect_rows(g, "cohesion", cohesion.size(), n, because);
     const auto side = g.read<std::int8_t>("boundary_side");
     expect_rows(g, "boundary_side", side.size(), n, because);
+    std::vector<double> tension(n, 0.0);  // files from before tension: 0
+    if (g.exists("tension")) tension = g.read<double>("tension");
+    expect_rows(g, "tension", tension.size(), n, because);
     // Files from before the limits exemption: every joint obeys the limits.
     std::vector<std::uint8_t> limits(n, 1);
     if (g.exists("limits")) {
@@ -988,6 +1004,7 @@ JointSystem read_joint_groups(const Group& root) {
       j.set = set[i];
       j.friction_angle_deg = friction[i];
       j.cohesion = cohesion[i];
+      j.tension = tension[i];
       j.boundary_side = side[i];
       j.limits = limits[i] == 1;
       for (auto k = static_cast<std::size_t>(offset[i]);
@@ -1011,6 +1028,7 @@ JointSystem read_joint_groups(const Group& root) {
       s.offset = sg.read_attribute<double>("offset");
       s.friction_angle_deg = sg.read_attribute<double>("friction_angle");
       s.cohesion = sg.read_attribute<double>("cohesion");
+      if (sg.has_attribute("tension")) s.tension = sg.read_attribute<double>("tension");
       if (sg.has_attribute("limits")) {  // files from before the exemption: 1
         const auto limits = sg.read_attribute<std::int64_t>("limits");
         if (limits != 0 && limits != 1)
@@ -1074,6 +1092,11 @@ JointSystem read_joint_groups(const Group& root) {
         fail(g, "/options attribute slivers is \"" + rule + "\"; expected join or excavate");
       js.options.slivers = static_cast<SliverRule>(k - kSliverRuleNames.begin());
     }
+  }
+  if (root.exists("rock")) {  // files without [rock] (and from before it) have no /rock
+    const Group g = root.open_group("rock");
+    js.rock = {true, g.read_attribute<double>("friction_angle"),
+               g.read_attribute<double>("cohesion"), g.read_attribute<double>("tension")};
   }
   return js;
 }

@@ -103,8 +103,8 @@ namespace {
 using Keys = std::span<const std::string_view>;
 
 // The keys of each table of a scene file (DESIGN section 6).
-constexpr std::array<std::string_view, 6> kTopTables = {"scene",  "domain", "options",
-                                                        "joints", "sets",   "zones"};
+constexpr std::array<std::string_view, 7> kTopTables = {"scene", "domain", "options", "joints",
+                                                        "sets",  "zones",  "rock"};
 constexpr std::array<std::string_view, 5> kSceneKeys = {"name", "seed", "tolerance", "max_joints",
                                                         "dimension"};
 constexpr std::array<std::string_view, 2> kRegionKeys = {"box", "planes"};
@@ -119,14 +119,16 @@ constexpr std::array<std::string_view, 2> kBoxKeys = {"min", "max"};
 constexpr std::array<std::string_view, 2> kPlaneKeys = {"normal", "d"};
 constexpr std::array<std::string_view, 6> kOptionKeys = {
     "order", "min_inscribed_diameter", "max_aspect_ratio", "max_blocks", "fixed_faces", "slivers"};
-constexpr std::array<std::string_view, 12> kJointKeys = {
-    "dip",      "dip_direction", "point", "polygon", "polygon_uv", "kind", "friction_angle",
-    "cohesion", "keep",          "stage", "limits",  "segment"};
-constexpr std::array<std::string_view, 23> kSetKeys = {
+constexpr std::array<std::string_view, 13> kJointKeys = {
+    "dip",      "dip_direction", "point", "polygon", "polygon_uv", "kind",   "friction_angle",
+    "cohesion", "keep",          "stage", "limits",  "segment",    "tension"};
+constexpr std::array<std::string_view, 24> kSetKeys = {
     "name",           "dip",      "dip_direction", "spacing", "offset", "kind", "keep",
     "friction_angle", "cohesion", "fisher_kappa",  "density", "count",  "p32",  "p10",
     "scanline",       "size",     "shape",         "aspect",  "sides",  "fit",  "rotation",
-    "stage",          "limits"};
+    "stage",          "limits",   "tension"};
+// [rock]: intact rock, for the contacts DEM exports put through rock bridges (RockSpec).
+constexpr std::array<std::string_view, 3> kRockKeys = {"friction_angle", "cohesion", "tension"};
 // The intensity keys of a set, in the order of SetIntensity: exactly one is given.
 constexpr std::array<std::string_view, 5> kIntensityKeys = {"spacing", "density", "count", "p32",
                                                             "p10"};
@@ -688,11 +690,20 @@ constexpr char kDipDirectionFix[] =
     "give the dip direction clockwise from North in [0, 360) (e.g. 360 -> 0, -30 -> 330)";
 
 struct Common {  // what [[joints]] and [[sets]] share
-  double dip = 0, dip_direction = 0, friction = 30, cohesion = 0;
+  double dip = 0, dip_direction = 0, friction = 30, cohesion = 0, tension = 0;
   JointKind kind = JointKind::rock;
   std::int8_t side = 0;
   bool limits = true;
 };
+
+// A stress key >= 0 (Pa), `def` if absent.
+double stress(const Tbl& t, std::string_view key, double def) {
+  const double v = number(t, key, def);
+  if (v < 0)
+    t.r.fail(*t.find(key), t.label(key) + " is " + fmt(v) + " < 0",
+             "give a " + std::string(key) + " >= 0 (Pa)");
+  return v;
+}
 
 Common read_common(const Tbl& t) {
   Common c;
@@ -708,6 +719,7 @@ Common read_common(const Tbl& t) {
   if (c.cohesion < 0)
     t.r.fail(*t.find("cohesion"), t.label("cohesion") + " is " + fmt(c.cohesion) + " < 0",
              "give a cohesion >= 0 (Pa)");
+  c.tension = stress(t, "tension", 0);
   if (const toml::node* k = t.find("kind"))
     c.kind = static_cast<JointKind>(to_choice(t.r, *k, t.label("kind"), kJointKindNames));
   if (const toml::node* n = t.find("limits")) {
@@ -803,6 +815,7 @@ Joint read_joint(const Context& cx, const toml::table& tt, std::size_t index) {
   j.kind = c.kind;
   j.friction_angle_deg = c.friction;
   j.cohesion = c.cohesion;
+  j.tension = c.tension;
   j.boundary_side = c.side;
   j.limits = c.limits;
   check_section_dip(cx, t, c);
@@ -1040,6 +1053,7 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
   s.kind = c.kind;
   s.friction_angle_deg = c.friction;
   s.cohesion = c.cohesion;
+  s.tension = c.tension;
   s.limits = c.limits;
   s.boundary_side = c.side;
 
@@ -1479,6 +1493,18 @@ void read_scene_table(const Reader& r, const toml::table& st, Scene& scene) {
            "give a small positive number relative to the domain size, e.g. 1e-9");
 }
 
+// [rock]: friction_angle, cohesion, tension of intact rock.
+void read_rock(const Reader& r, const toml::table& rt, Scene& scene) {
+  const Tbl t{r, rt, "[rock]"};
+  t.check_keys(kRockKeys);
+  scene.rock.given = true;
+  scene.rock.friction_angle_deg = number(t, "friction_angle", 30);
+  check_range(t, "friction_angle", scene.rock.friction_angle_deg, 0, 90, true,
+              "give the friction angle in degrees, 0 <= friction_angle < 90");
+  scene.rock.cohesion = stress(t, "cohesion", 0);
+  scene.rock.tension = stress(t, "tension", 0);
+}
+
 // [options]: order, limits, max_blocks, fixed_faces, slivers.
 void read_options(const Reader& r, const toml::table& ot, Scene& scene) {
   const Tbl t{r, ot, "[options]"};
@@ -1554,7 +1580,8 @@ std::vector<SceneKeys> scene_keys() {
           {"zones", "", list(kZoneKeys)},
           {"zones", "box", list(kBoxKeys)},
           {"zones", "planes", list(kPlaneKeys)},
-          {"zones", "tunnel", list(kTunnelKeys)}};
+          {"zones", "tunnel", list(kTunnelKeys)},
+          {"rock", "", list(kRockKeys)}};
 }
 
 Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
@@ -1665,6 +1692,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
   cx.max_joints = scene.max_joints;
 
   if (const toml::table* ot = single("options")) read_options(r, *ot, scene);
+  if (const toml::table* rt = single("rock")) read_rock(r, *rt, scene);
 
   const auto joints = multi("joints");
   for (std::size_t i = 0; i < joints.size(); ++i) {
@@ -1722,6 +1750,7 @@ JointSystem generate_joints(const Scene& scene) {
   js.domain = scene.domain;
   js.options = scene.options;
   js.sets = scene.sets;
+  js.rock = scene.rock;
   js.zones = scene.zones;
   js.zone_meshes = scene.zone_meshes;
   const std::string where = scene.source.string();
@@ -1786,6 +1815,7 @@ JointSystem generate_joints(const Scene& scene) {
         j.set = static_cast<std::int32_t>(s);
         j.friction_angle_deg = spec.friction_angle_deg;
         j.cohesion = spec.cohesion;
+        j.tension = spec.tension;
         j.limits = spec.limits;
         j.boundary_side = spec.boundary_side;
         js.joints.push_back(std::move(j));

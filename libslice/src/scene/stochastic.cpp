@@ -440,6 +440,7 @@ std::vector<Joint> generate_stochastic_set(JointSetSpec& spec, std::size_t index
     j.set = static_cast<std::int32_t>(index);
     j.friction_angle_deg = spec.friction_angle_deg;
     j.cohesion = spec.cohesion;
+    j.tension = spec.tension;
     j.limits = spec.limits;
     j.boundary_side = spec.boundary_side;
     j.polygon_uv = joint_polygon(spec, size, rotation);
