@@ -7,6 +7,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <sstream>
 #include <string>
 
 #include "slice/h5io.hpp"
@@ -196,4 +197,50 @@ TEST_CASE("slice-info reports each set's open joint area in the block model (P32
     CHECK(set["p32_blocks"].get<double>() > 0.3 * set["p32"].get<double>());
     CHECK(set["p32_blocks"].get<double>() < set["p32"].get<double>());
   }
+}
+
+TEST_CASE("a rock bridge carries intact rock's friction into the YADE model",
+          "[tools][export][yade][bridges]") {
+  // Lognormal squares (Table 3): the cut extends them through whole blocks, so many faces are
+  // partly rock bridge. With [rock], a block's friction angle is the smallest over its rock
+  // faces of f x the joint's + (1 - f) x [rock]'s (f: face_joint_fraction).
+  test::TempDir tmp;
+  std::string text = test::read_bytes(test::data_path("table3-lognormal.toml"));
+  text += "\n[rock]\nfriction_angle = 50\ncohesion = 1e6\ntension = 5e5\n";
+  const std::string scene = (tmp / "bridged.toml").string();
+  test::write_text(scene, text);
+  nlohmann::json stats;
+  const std::string geom = slice_scene(tmp, scene, "", stats);
+  const auto bs = slice::read_blocks(geom);
+  const auto& g = *bs.geometry;
+  const std::string model = (tmp / "model.py").string();
+  const auto ex = run_tool("slice-export", {geom, "--format", "yade", "-o", model, "-q"});
+  INFO(ex.err);
+  REQUIRE(ex.exit_code == 0);
+  std::map<std::size_t, double> friction;  // from the script's BLOCKS rows
+  std::istringstream lines(test::read_bytes(model));
+  const std::regex row("^\\((\\d+), [01], ([0-9.e+-]+),");
+  for (std::string line; std::getline(lines, line);)
+    if (std::smatch m; std::regex_search(line, m, row))
+      friction[std::stoul(m[1])] = std::stod(m[2]);
+  std::size_t face = 0, raised = 0, checked = 0;
+  for (std::size_t b = 0; b < bs.blocks.size(); face += bs.blocks[b++].faces.size()) {
+    if (bs.blocks[b].flags & slice::kRemoved) continue;
+    double want = 1e9, joints_only = 1e9;
+    for (std::size_t k = 0; k < bs.blocks[b].faces.size(); ++k) {
+      const auto j = bs.blocks[b].faces[k].joint;
+      if (j < 0) continue;
+      const double phi = bs.joints.joints[std::size_t(j)].friction_angle_deg;
+      const double f = g.face_joint_fraction[face + k];
+      want = std::min(want, f * phi + (1 - f) * 50);
+      joints_only = std::min(joints_only, phi);
+    }
+    if (want > 1e8) continue;  // no joint face: the default
+    REQUIRE(friction.count(b));
+    CHECK_THAT(friction[b], WithinAbs(want, 1e-9));
+    raised += friction[b] > joints_only + 1e-9 ? 1 : 0;
+    ++checked;
+  }
+  CHECK(checked > 1000);
+  CHECK(raised > 0);  // some blocks are held by bridges on every side
 }

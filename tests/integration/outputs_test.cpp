@@ -82,6 +82,14 @@ TEST_CASE("exit 1 yet the existing -o replaced: no output is renamed unless all 
                                           (disk.dir() / "j.vtu").string(), "-q"}),
                 "slice-export", {"j.vtu"}, disk.dir());
   CHECK(test::read_bytes(vtu) == old);
+  // slice-export --format 3dec -o m.3dgrid --3dec-commands /full/m.dat
+  const path grid = tmp / "m.3dgrid";
+  test::write_text(grid, old);
+  check_refused(
+      run_tool("slice-export", {geom, "--format", "3dec", "-o", grid.string(), "--3dec-commands",
+                                (disk.dir() / "m.dat").string(), "-q"}),
+      "slice-export", {"m.dat"}, disk.dir());
+  CHECK(test::read_bytes(grid) == old);
   for (const auto& e : test::fs::directory_iterator(tmp.path()))
     CHECK(e.path().extension() != ".partial");
 }

@@ -8,7 +8,8 @@
 //   - one body per block that is not removed;
 //   - one material per block; its friction angle is the smallest friction angle of the joints
 //     of the block's faces, over rock and boundary joints (domain faces and construction joints
-//     are no contacts and carry none); a block with no such face gets default_friction_deg;
+//     are no contacts and carry none), rock bridges weighted in with [rock]'s (see
+//     block_friction_deg); a block with no such face gets default_friction_deg;
 //   - boundary blocks are fixed (blockedDOFs 'xyzXYZ');
 //   - the blocks of a cluster (joined across construction joints) are one clump; a clump with a
 //     boundary block is fixed;
@@ -52,7 +53,15 @@ struct YadeStats {
   double timestep = 0;  // O.dt the script sets (yade_timestep)
 };
 
-/// The friction angle [degrees] the rule above gives block `b` of `bs`.
+/// The friction angle [degrees] the rule above gives block `b` of `bs`. With a [rock] table in
+/// the scene (bs.joints.rock.given) and /geometry, each face's angle is weighted by its
+/// face_joint_fraction f: f x the joint's + (1 - f) x [rock]'s friction_angle, since a rock
+/// bridge (f < 1) is intact rock. Polyhedra's volumetric law has no cohesion or tension, and its
+/// friction is per body (the smaller of two bodies' materials): the rule can do no more.
+/// `first_face`: block b's first row in /geometry's per-face arrays.
+double block_friction_deg(const BlockSystem& bs, std::size_t b, std::size_t first_face,
+                          double default_friction_deg);
+/// The same, finding first_face by counting the faces of blocks 0 .. b - 1.
 double block_friction_deg(const BlockSystem& bs, std::size_t b, double default_friction_deg);
 
 /// Writes the script atomically (to "<out>.partial", renamed when complete). Needs bs.geometry

@@ -228,15 +228,28 @@ void YadeOptions::validate() const {
     throw Error("--pb-rounding", "is " + num(pb_rounding), "give a fraction in (0, 0.5)");
 }
 
-double block_friction_deg(const BlockSystem& bs, std::size_t b, double default_friction_deg) {
+double block_friction_deg(const BlockSystem& bs, std::size_t b, std::size_t first_face,
+                          double default_friction_deg) {
+  // With [rock] and /geometry, a face's angle is its joint's on the part of it inside the
+  // joint's polygon and intact rock's on the rest (a rock bridge): weighted by the fraction.
+  const bool bridges = bs.joints.rock.given && bs.geometry;
   double phi = std::numeric_limits<double>::infinity();
-  for (const Face& f : bs.blocks[b].faces) {
+  for (std::size_t k = 0; k < bs.blocks[b].faces.size(); ++k) {
+    const Face& f = bs.blocks[b].faces[k];
     if (f.joint < 0) continue;
     const Joint& j = bs.joints.joints[std::size_t(f.joint)];
     if (j.kind == JointKind::construction) continue;
-    phi = std::min(phi, j.friction_angle_deg);
+    const double part = bridges ? bs.geometry->face_joint_fraction[first_face + k] : 1.0;
+    phi =
+        std::min(phi, part * j.friction_angle_deg + (1 - part) * bs.joints.rock.friction_angle_deg);
   }
   return std::isfinite(phi) ? phi : default_friction_deg;
+}
+
+double block_friction_deg(const BlockSystem& bs, std::size_t b, double default_friction_deg) {
+  std::size_t first_face = 0;
+  for (std::size_t i = 0; i < b; ++i) first_face += bs.blocks[i].faces.size();
+  return block_friction_deg(bs, b, first_face, default_friction_deg);
 }
 
 YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem& bs,
@@ -257,15 +270,16 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
 
   std::vector<BodyData> bodies;
   YadeStats st;
-  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
+  std::size_t first_face = 0;  // block b's first row in the per-face arrays
+  for (std::size_t b = 0; b < bs.blocks.size(); first_face += bs.blocks[b++].faces.size()) {
     const Block& blk = bs.blocks[b];
     if (blk.flags & kRemoved) {
       ++st.removed;
       continue;
     }
     bodies.push_back({b, (blk.flags & (kBoundary | kFixed)) != 0,
-                      block_friction_deg(bs, b, opt.default_friction_deg), blk.cluster, g.volume[b],
-                      g.centroid[b]});
+                      block_friction_deg(bs, b, first_face, opt.default_friction_deg), blk.cluster,
+                      g.volume[b], g.centroid[b]});
     st.fixed += bodies.back().fixed ? 1 : 0;
   }
   std::map<std::int64_t, std::size_t> cluster_size;

@@ -57,6 +57,35 @@ bool lock_whole(int fd) {
   return ::fcntl(fd, F_OFD_SETLK, &l) == 0;
 }
 
+// Creates `path` (in `dir`) already locked: the file is made unnamed (O_TMPFILE), locked, then
+// linked under its name, so no other run can find it unlocked. Where the file system has no
+// O_TMPFILE, created by name and then locked, and checked to be still the file the path names.
+// The descriptor, or -1 with errno (EEXIST: another run's file is there).
+int create_locked(const fs::path& path, const fs::path& dir) {
+  int fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
+  if (fd >= 0) {
+    const std::string self = "/proc/self/fd/" + std::to_string(fd);
+    if (lock_whole(fd) &&
+        ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, path.c_str(), AT_SYMLINK_FOLLOW) == 0)
+      return fd;
+    const int error = errno;
+    ::close(fd);
+    errno = error;
+    return -1;
+  }
+  if (errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL) return -1;
+  fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) return -1;
+  struct stat mine {};
+  struct stat named {};
+  if (lock_whole(fd) && ::fstat(fd, &mine) == 0 && ::lstat(path.c_str(), &named) == 0 &&
+      mine.st_dev == named.st_dev && mine.st_ino == named.st_ino)
+    return fd;
+  ::close(fd);  // another run took it as stale and replaced it
+  errno = EEXIST;
+  return -1;
+}
+
 void rename_onto(const fs::path& partial, const fs::path& out) {
   std::error_code ec;
   fs::rename(partial, out, ec);
@@ -97,11 +126,10 @@ PartialFile::PartialFile(fs::path out)
                 "create it or choose another output path");
   if (fs::is_directory(out_, ec))
     throw Error(out_.string(), "is a directory", "give a file name for the output");
-  // Create the .partial and lock it. A .partial already there is another live run's while that
-  // run holds its lock; otherwise it is stale (a run killed by SIGKILL or a power cut) and is
+  // Create the .partial locked. A .partial already there is another live run's while that run
+  // holds its lock; otherwise it is stale (a run killed by SIGKILL or a power cut) and is
   // replaced. A symlink there is removed, never followed. Another run may do the same at the
-  // same moment: whoever creates the file and locks it first writes; the lock is checked to be
-  // on the file the path names, else the loop starts again.
+  // same moment: whoever creates the file first writes, the other looks again.
   for (int attempt = 0;; ++attempt) {
     if (attempt == 8)
       throw Error(out_.string(), "another run keeps replacing " + partial_.filename().string(),
@@ -129,22 +157,15 @@ PartialFile::PartialFile(fs::path out)
           "remove it by hand or choose another output path");
     // Registered before it exists, so that a signal from the moment it does removes it.
     slot_ = register_partial(partial_);
-    const int fd =
-        ::open(partial_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-    const int error = errno;
-    struct stat mine {};
-    struct stat named {};
-    if (fd >= 0 && lock_whole(fd) && ::fstat(fd, &mine) == 0 &&
-        ::lstat(partial_.c_str(), &named) == 0 && mine.st_dev == named.st_dev &&
-        mine.st_ino == named.st_ino) {
+    const int fd = create_locked(partial_, dir);
+    if (fd >= 0) {
       lock_ = fd;
       return;
     }
-    // Another run created it first, or took ours as stale and replaced it: look again.
-    if (fd >= 0) ::close(fd);
+    const int error = errno;
     unregister_partial(slot_);
     slot_ = -1;
-    if (fd < 0 && error != EEXIST)
+    if (error != EEXIST)  // EEXIST: another run got there first, look again
       throw Error(
           out_.string(),
           "cannot create " + partial_.filename().string() + " (" + std::strerror(error) + ")",
