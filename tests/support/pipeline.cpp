@@ -38,4 +38,13 @@ void check_bad_scenes(const std::vector<BadScene>& cases) {
   }
 }
 
+void check_refused(const ToolRun& r, const std::string& tool,
+                   const std::vector<std::string>& words) {
+  INFO(r.err);
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Catch::StartsWith(tool + ": error: "));
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  for (const auto& w : words) CHECK_THAT(r.err, Catch::Contains(w));
+}
+
 }  // namespace test

@@ -1239,6 +1239,7 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
 struct ZoneEntry {
   std::vector<Region> regions;
   std::optional<TriangleMesh> mesh;
+  std::filesystem::path mesh_file;
   std::vector<Joint> joints;
   EntryPlace place;
 };
@@ -1370,6 +1371,7 @@ void read_mesh_zone(const Context& cx, const Tbl& t, const toml::node& node, boo
         z.joints.push_back(construction_face_joint(corners));
     }
   z.mesh = std::move(mesh);
+  z.mesh_file = file;
 }
 
 // A [[zones]] entry: box, planes or tunnel. `default_stage` is the stage of a cut tunnel's
@@ -1692,7 +1694,10 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
     ZoneEntry z = read_zone(cx, *zones[i], i, last_stage + 1,
                             static_cast<std::int64_t>(joints.size() + sets.size() + i));
     std::move(z.regions.begin(), z.regions.end(), std::back_inserter(scene.zones));
-    if (z.mesh) scene.zone_meshes.push_back(std::move(*z.mesh));
+    if (z.mesh) {
+      scene.zone_meshes.push_back(std::move(*z.mesh));
+      scene.mesh_files.push_back(z.mesh_file);
+    }
     for (Joint& j : z.joints) {
       scene.joints.push_back(std::move(j));
       scene.joint_places.push_back(z.place);
