@@ -8,6 +8,8 @@
 namespace slice {
 namespace {
 
+constexpr const char* kInertiaNames[] = {"xx", "yy", "zz", "xy", "yz", "zx"};
+
 std::string g6(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", v);
@@ -64,6 +66,13 @@ std::string geometry_value_problem(const Geometry& g, const Block& blk, std::siz
   // (3-D: tetrahedra D = x0 . (xk x xk+1) = 6 V; 2-D: triangles c = x0 . s = 2 A).
   double enclosed = 0, area_sum = 0, perimeter_sum = 0;
   Vec3 moment = Vec3::Zero(), closure = Vec3::Zero();
+  // Second moments about the origin, the integral of r r^T: xx yy zz xy yz zx (Inertia's order).
+  Inertia second{};
+  const auto add = [&](double w, const Vec3& r) {
+    second[0] += w * r.x() * r.x(), second[1] += w * r.y() * r.y();
+    second[2] += w * r.z() * r.z(), second[3] += w * r.x() * r.y();
+    second[4] += w * r.y() * r.z(), second[5] += w * r.z() * r.x();
+  };
   for (std::size_t f = 0; f < blk.faces.size(); ++f) {
     const std::size_t face = face_row + f, file_face = base.face + face;
     const auto lo = static_cast<std::size_t>(g.face_vertex_offset[face]);
@@ -86,6 +95,8 @@ std::string geometry_value_problem(const Geometry& g, const Block& blk, std::siz
       const double c = a.dot(s);
       enclosed += c / 2;
       moment += c / 6 * (a + a + e);
+      // A triangle (0, a, b) of area A: integral r r^T = A / 12 (a a^T + b b^T + s s^T).
+      for (const Vec3& r : {a, Vec3(a + e), Vec3(a + a + e)}) add(c / 24, r);
     } else {
       for (std::size_t k = lo; k < hi; ++k) {
         const Vec3 p = x(g.face_vertices[k]), q = x(g.face_vertices[k + 1 < hi ? k + 1 : lo]);
@@ -95,6 +106,8 @@ std::string geometry_value_problem(const Geometry& g, const Block& blk, std::siz
           const double d = a.dot(p.cross(q));
           enclosed += d / 6;
           moment += d / 24 * (a + p + q);
+          // A tetrahedron (0, a, p, q): integral r r^T = D / 120 (a a^T + ... + s s^T).
+          for (const Vec3& r : {a, p, q, Vec3(a + p + q)}) add(d / 120, r);
         }
       }
     }
@@ -146,6 +159,23 @@ std::string geometry_value_problem(const Geometry& g, const Block& blk, std::siz
     if ((c - want).norm() > centroid_tol)
       return centroid() + " is not the centroid of " + block() + ": its vertices and loops give " +
              g6(want) + " (tolerance " + g6(centroid_tol) + ")";
+    // About the centroid, I = trace(C) Id - C with C = second - V m m^T (m = moment / V): in
+    // 2-D, where C has no y, that is docs/2d.md's section moments. Each entry moves by up to
+    // about 12 tol x area x reach^2 (second and V m m^T, each up to 3 tol x area x reach^2).
+    const Vec3 m = moment / enclosed;
+    const Inertia cov{second[0] - enclosed * m.x() * m.x(), second[1] - enclosed * m.y() * m.y(),
+                      second[2] - enclosed * m.z() * m.z(), second[3] - enclosed * m.x() * m.y(),
+                      second[4] - enclosed * m.y() * m.z(), second[5] - enclosed * m.z() * m.x()};
+    const double trace = cov[0] + cov[1] + cov[2];
+    const Inertia inertia{trace - cov[0], trace - cov[1], trace - cov[2],
+                          -cov[3],        -cov[4],        -cov[5]};
+    const double inertia_tol = 16 * tol * area_sum * reach * reach;
+    for (std::size_t k = 0; k < 6; ++k)
+      if (std::abs(g.inertia[b][k] - inertia[k]) > inertia_tol)
+        return "/geometry/inertia row " + std::to_string(base.block + b) + " column " +
+               std::to_string(k) + " (" + kInertiaNames[k] + ") is " + g6(g.inertia[b][k]) +
+               ", but the vertices and loops of " + block() + " give " + g6(inertia[k]) +
+               " (tolerance " + g6(inertia_tol) + ")";
   }
   return {};
 }
