@@ -2,7 +2,7 @@
 // libslice/src/io/geometry_check.cpp: the values of /geometry against each other, for the
 // readers and writers of h5io.cpp (issue 25 item 4). h5io.cpp checks shapes, indices, finite
 // values and that the vertices lie on their faces; this checks what those leave open: loops,
-// areas, volume and centroid, in O(size) (a reader runs it on files of a million blocks).
+// areas, volume, centroid and inertia, in O(size) (a reader runs it on million-block files).
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -22,8 +22,8 @@ struct GeometryBase {
 /// first face the run's face row `face_row`), or "" if nothing, within the length tolerance
 /// `tol` (h5io.cpp's vertex_tolerance): each loop visits a vertex once and runs
 /// counter-clockwise seen from outside (right-handed about the face normal) and encloses the
-/// face's stored area; the loops close; the stored volume is the one they enclose; the centroid
-/// lies inside the block and is the one they give. `section`: a 2-D file (docs/2d.md), whose
+/// face's stored area; the loops close; the stored volume, centroid and inertia are the ones
+/// they give; the centroid lies inside the block. `section`: a 2-D file (docs/2d.md), whose
 /// vertices and centroids have y = 0 and whose loops are edges (start, end). The shapes and
 /// indices of `g` must have been checked.
 std::string geometry_value_problem(const Geometry& g, const Block& blk, std::size_t b,
