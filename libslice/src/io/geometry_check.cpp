@@ -12,7 +12,7 @@ constexpr const char* kInertiaNames[] = {"xx", "yy", "zz", "xy", "yz", "zx"};
 
 std::string g6(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
+  std::snprintf(buf, sizeof buf, "%.6g", v + 0.0);  // + 0.0: "0", not "-0"
   return buf;
 }
 
@@ -48,7 +48,7 @@ std::string geometry_value_problem(const Geometry& g, const Block& blk, std::siz
   const auto v0 = static_cast<std::size_t>(g.vertex_offset[b]);
   const auto v1 = static_cast<std::size_t>(g.vertex_offset[b + 1]);
   // Everything relative to the block's origin (its Chebyshev centre): small coordinates.
-  const auto x = [&](std::int64_t local) {
+  const auto x = [&](std::int64_t local) -> Vec3 {
     return g.vertices[v0 + std::size_t(local)] - blk.origin;
   };
   double reach = 0;  // the farthest vertex from the origin
