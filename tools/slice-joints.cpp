@@ -1,12 +1,40 @@
 // slice-joints: scene file (TOML) -> joints.h5 (DESIGN sections 3, 6, 7).
+#include <charconv>
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/tool.hpp"
+#include "slice/error.hpp"
 #include "slice/h5io.hpp"
 #include "slice/scene.hpp"
+
+namespace {
+
+// --seed as [scene] seed: an integer from 0 to 2^63 - 1. Converted here, not by CLI11, which
+// clamps a larger integer (9223372036854775808, 2^64, 1e23) to 2^63 - 1: a sweep would get one
+// realization under two names.
+std::uint64_t parse_seed(const std::string& given) {
+  const std::string s = given.rfind('+', 0) == 0 ? given.substr(1) : given;
+  std::int64_t v = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec == std::errc() && end == s.data() + s.size() && v >= 0) return std::uint64_t(v);
+  char* dend = nullptr;
+  const double d = std::strtod(s.c_str(), &dend);
+  const bool number = !s.empty() && *dend == '\0';
+  const char* why = ec == std::errc::result_out_of_range || (number && !(std::abs(d) < 0x1p63))
+                        ? " is out of range"
+                    : number && d < 0 ? " is negative"
+                                      : " is not an integer";
+  throw slice::Error("--seed", given + why,
+                     "give an integer from 0 to 9223372036854775807 (2^63 - 1), as [scene] seed");
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   tool::Tool t{"slice-joints",
@@ -15,17 +43,22 @@ int main(int argc, char** argv) {
   std::string out = "joints.h5";
   t.cli.add_option("scene", scene_file, "scene file (TOML, see docs/scenes.md)")->required();
   t.cli.add_option("-o,--output", out, "output file")->capture_default_str();
-  std::optional<std::int64_t> seed;  // as [scene] seed: an integer from 0 to 2^63 - 1
+  std::optional<std::string> seed;  // parse_seed
   t.cli
       .add_option("--seed", seed,
                   "seed of the random joint sets, in place of the scene's [scene] seed (for "
                   "realization sweeps: joints.h5 records the seed used)")
-      ->check(CLI::NonNegativeNumber);
+      ->type_name("INT");
   t.add_compress_option();
   return t.run(argc, argv, [&] {
+    const std::uint64_t seed_value = seed ? parse_seed(*seed) : 0;
     tool::check_distinct_paths({{"scene", scene_file, false}, {"-o", out}});
     slice::Scene scene = slice::load_scene(scene_file);
-    if (seed) scene.seed = static_cast<std::uint64_t>(*seed);
+    // The files the scene names (mesh zones) are inputs too: -o on one would destroy it.
+    std::vector<tool::PathArg> paths{{"scene", scene_file, false}, {"-o", out}};
+    for (const auto& mesh : scene.mesh_files) paths.push_back({"the [[zones]] mesh", mesh, false});
+    tool::check_distinct_paths(paths);
+    if (seed) scene.seed = seed_value;
     const slice::JointSystem js = slice::generate_joints(scene);
     slice::write_joints(out, js, t.provenance(scene_file), t.write_options());
     std::size_t persistent = 0;

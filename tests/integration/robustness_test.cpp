@@ -14,20 +14,11 @@
 #include "support/pipeline.hpp"
 #include "support/support.hpp"
 
+using test::check_refused;
 using test::run_tool;
 using test::fs::path;
 
 namespace {
-
-/// Exit 1, one line "<tool>: error: ..." holding every word.
-void check_refused(const test::ToolRun& r, const std::string& tool,
-                   const std::vector<std::string>& words) {
-  INFO(r.err);
-  CHECK(r.exit_code == 1);
-  CHECK_THAT(r.err, Catch::StartsWith(tool + ": error: "));
-  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-  for (const auto& w : words) CHECK_THAT(r.err, Catch::Contains(w));
-}
 
 /// Runs an h5py script (Debian's python3) on `file`, which it sees as `f` (opened r+).
 void edit_h5(const path& file, const std::string& body) {

@@ -65,4 +65,13 @@ int spawn_tool(const std::string& tool, const std::vector<std::string>& args) {
   return pid;
 }
 
+void check_refused(const ToolRun& r, const std::string& tool,
+                   const std::vector<std::string>& words) {
+  INFO(r.err);
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Catch::StartsWith(tool + ": error: "));
+  CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  for (const auto& w : words) CHECK_THAT(r.err, Catch::Contains(w));
+}
+
 }  // namespace test

@@ -35,4 +35,8 @@ struct BadScene {
 /// containing the words, no output and no .partial left.
 void check_bad_scenes(const std::vector<BadScene>& cases);
 
+/// A refused run: exit 1, one line "<tool>: error: ..." holding every word.
+void check_refused(const ToolRun& r, const std::string& tool,
+                   const std::vector<std::string>& words);
+
 }  // namespace test

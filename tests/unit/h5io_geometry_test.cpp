@@ -1,5 +1,6 @@
 // slice/h5io.hpp, the /geometry group of blocks.h5 (written by slice-vertices): exact round
 // trips, byte-identical reruns, and the refusals of the writer and the reader.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <functional>
@@ -116,6 +117,28 @@ TEST_CASE("the writer refuses geometry that does not match the blocks", "[h5io][
   SECTION("an infinite inertia") {
     g.inertia[0][4] = std::numeric_limits<double>::infinity();
     expect = "/geometry/inertia row 0 is";
+  }
+  // Issue 25 item 4: values that are finite and in range, but not the block's.
+  SECTION("a reversed face loop") {
+    std::reverse(g.face_vertices.begin() + g.face_vertex_offset[1],
+                 g.face_vertices.begin() + g.face_vertex_offset[2]);
+    expect = "the loop of face 1 of block 0";
+  }
+  SECTION("a loop with a repeated vertex") {
+    g.face_vertices[1] = g.face_vertices[0];
+    expect = "the loop of face 0 of block 0";
+  }
+  SECTION("a volume 1e-6 off") {
+    g.volume[1] *= 1 + 1e-6;
+    expect = "/geometry/volume row 1 is";
+  }
+  SECTION("a centroid outside its block") {
+    g.centroid[1].z() += 10;
+    expect = "/geometry/centroid row 1";
+  }
+  SECTION("an inertia 1e-4 off") {
+    g.inertia[0][0] *= 1 + 1e-4;
+    expect = "/geometry/inertia row 0 column 0 (xx)";
   }
   CAPTURE(expect);
   const std::string msg = error_of([&] { slice::write_blocks(dir / "g.h5", bs, {}); });

@@ -26,7 +26,9 @@ PolytopeInfo analyse_polytope(std::span<const Plane> planes, double tol);
 /// "" if they can: at coordinates up to M from the origin a double steps by up to M * 2^-52, so a
 /// tolerance below that step is meaningless (a 50 m box at 1e12 m steps by 2.4e-4 m, far above
 /// its cut tolerance of 4.3e-8 m; joint planes closer than a step cannot even be told apart).
-std::string precision_problem(const Vec3& lo, const Vec3& hi, double tol);
+/// `what` names the region in the reason ("the domain", "the tunnel").
+std::string precision_problem(const Vec3& lo, const Vec3& hi, double tol,
+                              const std::string& what = "the domain");
 
 /// Six planes of the box [min, max], outward normals, in the order -x +x -y +y -z +z.
 std::vector<Plane> box_planes(const Vec3& min, const Vec3& max);

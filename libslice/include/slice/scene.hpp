@@ -209,6 +209,8 @@ struct Scene {
   RockSpec rock;
   std::vector<Region> zones;              // a [[zones]] tunnel may give several (tunnel_regions)
   std::vector<TriangleMesh> zone_meshes;  // [[zones]] mesh: closed meshes (mesh.hpp)
+  std::vector<std::filesystem::path> mesh_files;  // the files they were read from (for tools'
+                                                  //   same-file checks)
   std::vector<EntryPlace> joint_places;   // one per joint: its [[joints]] entry or its zone
   std::vector<EntryPlace> set_places;     // one per [[sets]] entry
 };

@@ -145,15 +145,15 @@ PolytopeInfo analyse_polytope(std::span<const Plane> planes, double tol) {
   return info;
 }
 
-std::string precision_problem(const Vec3& lo, const Vec3& hi, double tol) {
+std::string precision_problem(const Vec3& lo, const Vec3& hi, double tol, const std::string& what) {
   const double m = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
   const double step = m * std::numeric_limits<double>::epsilon();
   if (tol >= step) return {};
   char buf[320];
   std::snprintf(buf, sizeof buf,
-                "the domain reaches %.3g from the origin, where doubles step by %.3g, coarser than "
+                "%s reaches %.3g from the origin, where doubles step by %.3g, coarser than "
                 "the tolerance %.3g (tolerance x the domain's bounding radius)",
-                m, step, tol);
+                what.c_str(), m, step, tol);
   return buf;
 }
 

@@ -15,10 +15,12 @@
 #include <string>
 #include <vector>
 
+#include "geometry_check.hpp"
 #include "h5/h5.hpp"
 #include "slice/error.hpp"
 #include "slice/mesh.hpp"
 #include "slice/output.hpp"
+#include "slice/polytope.hpp"
 #include "slice/tolerance.hpp"
 
 namespace slice {
@@ -227,6 +229,13 @@ void check_joints(const Checker& c, const JointSystem& js) {
     } catch (const Error& e) {
       c.fail(std::string("it does not bound a solid: ") + e.what());
     }
+    // As the scene parser refuses it: a mesh whose bounding box has no volume in the domain.
+    Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
+    for (const Vec3& x : m.vertices) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+    std::vector<Plane> both = box_planes(lo, hi);
+    both.insert(both.end(), js.domain.planes.begin(), js.domain.planes.end());
+    if (!analyse_polytope(both, js.options.tolerance * js.length_scale).has_interior)
+      c.fail(which + " has no volume inside /domain, so it would remove nothing");
   }
 
   if (static_cast<std::size_t>(js.options.order) >= kJointOrderNames.size())
@@ -257,13 +266,6 @@ std::size_t face_count(std::span<const Block> blocks) {
   for (const Block& b : blocks) faces += b.faces.size();
   return faces;
 }
-
-// Where the geometry of a run of blocks starts in /geometry (its rows and offsets there): a
-// Geometry of a run counts from 0, messages name the file's rows.
-struct GeometryBase {
-  std::size_t block = 0, face = 0;
-  std::int64_t vertex = 0, face_vertex = 0;
-};
 
 // Block b of the run `g` (the file's block base.block + b; its first face is the run's row
 // `face_row`) against its faces: every vertex inside every face, and every vertex of a face's loop
@@ -372,6 +374,9 @@ void check_geometry(const Checker& c, const BlockSystem& bs, const Geometry& g,
     for (const double x : g.inertia[b])
       if (!std::isfinite(x))
         c.fail(at("/geometry/inertia", block) + " is " + row_text(g.inertia[b].data(), 6));
+    if (std::string why = geometry_value_problem(g, blk, b, first_face, base, tol, section);
+        !why.empty())
+      c.fail(why);
   }
 }
 
@@ -1061,7 +1066,17 @@ JointSystem read_joint_groups(const Group& root) {
     for (std::size_t z = 0; z + 1 < offset.size(); ++z)
       js.zones.push_back(
           {std::vector<Plane>(planes.begin() + offset[z], planes.begin() + offset[z + 1])});
-    if (g.exists("mesh_vertex_offset")) js.zone_meshes = read_zone_meshes(g);
+    // The four /zones/mesh_* datasets come together: some without the others is a damaged file,
+    // not one without meshes (whose zone would be dropped without a word).
+    const char* parts[] = {"mesh_vertex_offset", "mesh_vertices", "mesh_triangle_offset",
+                           "mesh_triangles"};
+    const auto n = std::count_if(std::begin(parts), std::end(parts),
+                                 [&](const char* p) { return g.exists(p); });
+    for (const char* p : parts)
+      if (n > 0 && !g.exists(p))
+        fail(g, std::string("/zones/") + p + " is missing, though /zones has other mesh_* " +
+                    "datasets (a mesh zone)");
+    if (n > 0) js.zone_meshes = read_zone_meshes(g);
   }
   {
     const Group g = root.open_group("options");

@@ -1253,6 +1253,7 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
 struct ZoneEntry {
   std::vector<Region> regions;
   std::optional<TriangleMesh> mesh;
+  std::filesystem::path mesh_file;
   std::vector<Joint> joints;
   EntryPlace place;
 };
@@ -1336,6 +1337,24 @@ Tunnel read_tunnel(const Context& cx, const Tbl& zone, const toml::node& node) {
   return tun;
 }
 
+// A cut tunnel's joints reach its ends: refused, as a domain far from the origin is, where
+// doubles cannot resolve them (a tunnel 1e18 long through a 20 m cube cut nothing right).
+void check_tunnel_precision(const Context& cx, const Tbl& zone, const toml::node& node,
+                            const Tunnel& tun) {
+  const TunnelFrame f = tunnel_frame(tun.direction);
+  Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
+  for (const double s : {0.0, tun.length})
+    for (const Vec2& uv : tun.outline) {
+      const Vec3 x = f.to_global(tun.point, uv, s);
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+  if (const std::string why = precision_problem(lo, hi, cx.tol(), "the tunnel"); !why.empty())
+    zone.r.fail(node, zone.label("tunnel") + " with cut = true: " + why,
+                "shorten it to the part that crosses the domain (its joints span its whole "
+                "length), or raise [scene] tolerance");
+}
+
 // True if one of the regions has volume inside the domain.
 bool meets_domain(const Context& cx, std::span<const Region> regions) {
   return std::any_of(regions.begin(), regions.end(), [&](const Region& z) {
@@ -1384,6 +1403,7 @@ void read_mesh_zone(const Context& cx, const Tbl& t, const toml::node& node, boo
         z.joints.push_back(construction_face_joint(corners));
     }
   z.mesh = std::move(mesh);
+  z.mesh_file = file;
 }
 
 // A [[zones]] entry: box, planes or tunnel. `default_stage` is the stage of a cut tunnel's
@@ -1440,6 +1460,7 @@ ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
       return z;
     }
     const Tunnel tun = read_tunnel(cx, t, *tunnel);
+    if (cut) check_tunnel_precision(cx, t, *tunnel, tun);
     z.regions = tunnel_regions(tun, cx.tol());
     if (cut) z.joints = tunnel_joints(tun, cx.box.planes, cx.tol());
     // The fan's prisms have a few planes each; a convex region of up to 1000 sides is too many
@@ -1720,7 +1741,10 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
     ZoneEntry z = read_zone(cx, *zones[i], i, last_stage + 1,
                             static_cast<std::int64_t>(joints.size() + sets.size() + i));
     std::move(z.regions.begin(), z.regions.end(), std::back_inserter(scene.zones));
-    if (z.mesh) scene.zone_meshes.push_back(std::move(*z.mesh));
+    if (z.mesh) {
+      scene.zone_meshes.push_back(std::move(*z.mesh));
+      scene.mesh_files.push_back(z.mesh_file);
+    }
     for (Joint& j : z.joints) {
       scene.joints.push_back(std::move(j));
       scene.joint_places.push_back(z.place);
