@@ -77,6 +77,9 @@ int main(int argc, char** argv) {
     if (!bs.geometry)
       throw slice::Error(in, "the blocks have no vertices (no /geometry)",
                          "run slice-vertices on it first");
+    if (bs.joints.dimension == 2 && format == "3dec")  // the input is 2-D, not the output
+      throw slice::Error(in, "is a 2-D section (dimension 2): the 3DEC export is 3-D only",
+                         "export it with --format yade (Polyhedra prisms) or --format vtu");
     if (format == "vtu") {
       const auto st = slice::write_blocks_vtu(out, bs, vtu_compressor, t.threads);
       t.say(std::to_string(st.cells) + " blocks (" + std::to_string(st.skipped) +

@@ -42,7 +42,7 @@ std::string escape_control(std::string_view s) {
 }
 
 Error::Error(const std::string& where, const std::string& what, const std::string& fix)
-    : std::runtime_error(compose(where, what, fix)) {}
+    : std::runtime_error(compose(where, what, fix)), where_(where), problem_(what), fix_(fix) {}
 
 void assert_fail(const char* expr, const char* file, int line) {
   throw std::logic_error(std::string(file) + ":" + std::to_string(line) +

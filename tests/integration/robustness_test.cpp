@@ -15,18 +15,11 @@
 #include "support/support.hpp"
 
 using test::check_refused;
+using test::edit_h5;
 using test::run_tool;
 using test::fs::path;
 
 namespace {
-
-/// Runs an h5py script (Debian's python3) on `file`, which it sees as `f` (opened r+).
-void edit_h5(const path& file, const std::string& body) {
-  const std::string script = "import h5py, numpy as np\nf = h5py.File(" +
-                             test::shell_quote(file.string()) + ", 'r+')\n" + body +
-                             "\nf.close()\n";
-  REQUIRE(test::run_shell("/usr/bin/python3 -c " + test::shell_quote(script)) == 0);
-}
 
 /// Every file in dir (names), sorted: to show that a refused run wrote nothing.
 std::vector<std::string> listing(const path& dir) {

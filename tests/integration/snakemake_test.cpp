@@ -181,3 +181,67 @@ TEST_CASE("a realization sweep: one folder per seed, a summary over the seeds",
   // Nothing changed: nothing runs, the summary included.
   CHECK_THAT(snakemake(tmp), Catch::Contains("Nothing to be done"));
 }
+
+TEST_CASE("issue-25 workflow paths are relative to the config file that names them",
+          "[tools][workflow][snakemake]") {
+  // The user's config beside its scene, snakemake run from another folder: the scene is found
+  // beside the config (not in the repository) and `out` is that folder's too.
+  test::TempDir tmp;
+  test::fs::create_directories(tmp / "mine");
+  test::fs::create_directories(tmp / "run");
+  test::write_text(tmp / "mine" / "cube.toml",
+                   test::read_bytes(test::data_path("cube-3sets.toml")));
+  test::write_text(tmp / "mine" / "my.yaml",
+                   std::string("scenes:\n  cube: cube.toml\nseeds: [1]\nout: results\ntools: ") +
+                       SLICE_TOOLS_DIR + "\nexports: [vtu]\nplots: false\nsummary: false\n");
+  const path log = tmp / "snakemake.log";
+  const int code = test::run_shell("cd " + test::shell_quote(tmp / "run") + " && snakemake -s " +
+                                   test::shell_quote(kRoot / "pipelines" / "Snakefile") +
+                                   " --configfile ../mine/my.yaml --cores 1 > " +
+                                   test::shell_quote(log) + " 2>&1");
+  INFO(test::tail_of(log));
+  REQUIRE(code == 0);
+  CHECK(test::fs::exists(tmp / "mine" / "results" / "cube" / "seed-1" / "blocks.vtu"));
+  CHECK_FALSE(test::fs::exists(tmp / "run" / "results"));
+}
+
+TEST_CASE("issue-25 workflow config: seeds [true] and an empty scenes: one line, nothing run",
+          "[tools][workflow][snakemake]") {
+  test::TempDir tmp;
+  const std::string scene = test::data_path("cube-3sets.toml").string();
+  const std::string rest = "\nout: " + (tmp / "out").string() + "\ntools: " + SLICE_TOOLS_DIR +
+                           "\nplots: false\nsummary: false\n";
+  struct Case {
+    std::string name, config;
+    std::vector<std::string> words;
+  };
+  const std::vector<Case> cases = {
+      {"seeds: [true]",
+       "scenes:\n  cube: " + scene + "\nseeds: [true]" + rest,
+       {"bad.yaml: seeds: [True] is not a list of seeds", "integers >= 0"}},
+      {"seeds: true", "scenes:\n  cube: " + scene + "\nseeds: true" + rest, {"seeds: True"}},
+      {"an empty scenes:",
+       "scenes:\nseeds: [1]" + rest,
+       {"bad.yaml: scenes: None names no scene", "name: scene file"}},
+      {"a scene without a file",
+       "scenes:\n  cube:\nseeds: [1]" + rest,
+       {"bad.yaml: scenes: cube: None is not a file name"}},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.name);
+    test::write_text(tmp / "bad.yaml", c.config);
+    const path out = tmp / "stdout", err = tmp / "stderr";
+    const int code = test::run_shell("cd " + test::shell_quote(tmp.path()) + " && snakemake -s " +
+                                     test::shell_quote(kRoot / "pipelines" / "Snakefile") +
+                                     " --configfile bad.yaml --cores 1 > " +
+                                     test::shell_quote(out) + " 2> " + test::shell_quote(err));
+    const std::string e = test::read_bytes(err);
+    INFO(e + test::read_bytes(out));
+    CHECK(code == 1);
+    CHECK(std::count(e.begin(), e.end(), '\n') == 1);
+    CHECK_THAT(e, Catch::StartsWith("config: "));
+    for (const auto& w : c.words) CHECK_THAT(e, Catch::Contains(w));
+    CHECK_THAT(e, !Catch::Contains("Traceback") && !Catch::Contains("Error"));
+    CHECK_FALSE(test::fs::exists(tmp / "out"));
+  }
+}

@@ -74,4 +74,10 @@ void check_refused(const ToolRun& r, const std::string& tool,
   for (const auto& w : words) CHECK_THAT(r.err, Catch::Contains(w));
 }
 
+void edit_h5(const fs::path& file, const std::string& body) {
+  const std::string script = "import h5py, numpy as np\nf = h5py.File(" +
+                             shell_quote(file.string()) + ", 'r+')\n" + body + "\nf.close()\n";
+  REQUIRE(run_shell("/usr/bin/python3 -c " + shell_quote(script)) == 0);
+}
+
 }  // namespace test

@@ -39,4 +39,8 @@ void check_bad_scenes(const std::vector<BadScene>& cases);
 void check_refused(const ToolRun& r, const std::string& tool,
                    const std::vector<std::string>& words);
 
+/// Runs an h5py script (Debian's python3) on `file`, which it sees as `f` (opened r+): to craft
+/// bad files.
+void edit_h5(const fs::path& file, const std::string& body);
+
 }  // namespace test

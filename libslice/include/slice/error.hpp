@@ -12,6 +12,14 @@ struct Error : std::runtime_error {
   /// Control characters in the parts (a newline in a scene key, say) are escaped, so what() is
   /// always one line.
   Error(const std::string& where, const std::string& what, const std::string& fix = {});
+  /// The parts as given (unescaped): a caller that adds its own where or fix to a caught Error
+  /// builds the new one from these, so the line holds one fix, not two.
+  const std::string& where() const noexcept { return where_; }
+  const std::string& problem() const noexcept { return problem_; }
+  const std::string& fix() const noexcept { return fix_; }
+
+ private:
+  std::string where_, problem_, fix_;
 };
 
 /// `s` with every control character escaped ("\n", "\t", "\x1b", ...): one printable line.

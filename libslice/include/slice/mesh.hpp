@@ -19,9 +19,15 @@ struct TriangleMesh {
                                                        //   seen from outside
 };
 
+/// The largest mesh file read_mesh reads: 256 MiB, about 5 million triangles in binary STL, 2
+/// to 3 million in OBJ or ASCII STL; an excavation needs thousands. Reading takes about 3 times
+/// the file's size in memory, so a larger file is refused by its size, before it is read.
+constexpr std::uintmax_t kMaxMeshFileBytes = std::uintmax_t(256) << 20;
+
 /// Reads an OBJ (`v x y z`, `f a b c ...`: polygons are split into fans, `a/b/c` and negative
 /// indices accepted, everything else ignored) or STL file (ASCII or binary; equal points are
-/// welded), by its extension (.obj, .stl, any case). Throws Error naming the file and line.
+/// welded), by its extension (.obj, .stl, any case). Throws Error naming the file and line; a
+/// binary STL whose triangle count disagrees with its size is refused with both numbers.
 TriangleMesh read_mesh(const std::filesystem::path& file);
 
 /// Throws Error(where, what, fix) unless the mesh bounds a solid: at least 4 triangles, no

@@ -479,7 +479,7 @@ ThreeDecStats write_3dec(const std::filesystem::path& grid, const std::filesyste
   opt.validate();
   // A section's polygons (docs/2d.md) would be UDEC blocks, not 3DEC polyhedra: not written.
   if (bs.joints.dimension == 2)
-    throw Error(grid.string(), "is a 2-D section (dimension 2): the 3DEC export is 3-D only",
+    throw Error(grid.string(), "not written: the blocks are a 2-D section, the export is 3-D only",
                 "export it with --format yade (Polyhedra prisms) or --format vtu");
   if (!bs.geometry)
     throw Error(grid.string(), "the blocks have no vertices (no /geometry)",

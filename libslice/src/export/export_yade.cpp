@@ -265,7 +265,8 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
   // translation, upper case a rotation) on every body that is not fixed.
   const bool section = bs.joints.dimension == 2;
   if (section && pb)
-    throw Error(out.string(), "is a 2-D section (dimension 2): PotentialBlock models are 3-D only",
+    throw Error(opt.source.empty() ? out.string() : opt.source,
+                "is a 2-D section (dimension 2): PotentialBlock models are 3-D only",
                 "export it with --format yade (Polyhedra prisms) or --format vtu");
 
   std::vector<BodyData> bodies;

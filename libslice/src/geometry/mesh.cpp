@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <new>
 #include <sstream>
 #include <tuple>
 
@@ -25,6 +26,9 @@ using Surface = CGAL::Surface_mesh<Point>;
 
 constexpr const char* kMeshFix =
     "give a closed triangle mesh (OBJ or STL), its faces counter-clockwise seen from outside";
+constexpr const char* kSimplifyFix =
+    "simplify (decimate) the mesh, e.g. with MeshLab or Blender: an excavation's surface needs "
+    "thousands of triangles, not millions";
 
 std::string lower(std::string s) {
   for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -86,29 +90,64 @@ struct Welder {
   }
 };
 
+// Binary STL: an 80-byte header, a 4-byte triangle count, 50 bytes a triangle.
+constexpr std::size_t kStlHeader = 84, kStlTriangle = 50;
+
+// ASCII STL is text; binary STL is not (its count and floats hold bytes such as 0 that no text
+// has), even when its header starts with "solid" as many exporters write it.
+bool is_text(const std::string& bytes) {
+  return std::none_of(bytes.begin(), bytes.end(), [](char ch) {
+    const auto u = static_cast<unsigned char>(ch);
+    return (u < 0x20 && !std::isspace(u)) || u == 0x7f;
+  });
+}
+
+// A binary STL whose count field disagrees with its size: both numbers, as the file has them.
+[[noreturn]] void bad_stl_count(const std::filesystem::path& file, std::size_t size,
+                                std::uint32_t count) {
+  const std::string fix =
+      "the file is truncated or damaged: export the mesh again (binary STL: 84 + 50 x "
+      "triangles bytes), or as OBJ";
+  if (size < kStlHeader)
+    throw Error(file.string(),
+                "is a binary STL of " + std::to_string(size) +
+                    " bytes, shorter than its 84-byte header and triangle count",
+                fix);
+  const std::size_t held = (size - kStlHeader) / kStlTriangle;
+  const std::size_t rest = (size - kStlHeader) % kStlTriangle;
+  throw Error(file.string(),
+              "its binary STL header says " + std::to_string(count) + " triangles (" +
+                  std::to_string(kStlHeader + kStlTriangle * std::size_t(count)) +
+                  " bytes) but the file has " + std::to_string(size) +
+                  " bytes: " + std::to_string(held) + " whole triangles" +
+                  (rest ? " and " + std::to_string(rest) + " bytes more" : std::string()),
+              fix);
+}
+
 TriangleMesh read_stl(const std::filesystem::path& file, const std::string& bytes) {
   Welder w;
-  // Binary: an 80-byte header, a count, 50 bytes a triangle (ASCII files may also start with
-  // "solid", so the size decides).
-  if (bytes.size() >= 84) {
-    std::uint32_t count = 0;
-    std::memcpy(&count, bytes.data() + 80, 4);
-    if (bytes.size() == 84 + 50 * std::size_t(count)) {
-      for (std::size_t t = 0; t < count; ++t) {
-        std::array<std::int64_t, 3> tri{};
-        for (int k = 0; k < 3; ++k) {
-          float c[3];
-          std::memcpy(c, bytes.data() + 84 + 50 * t + 12 + 12 * std::size_t(k), 12);
-          const Vec3 x(c[0], c[1], c[2]);
-          if (!x.allFinite())
-            throw Error(file.string(),
-                        "triangle " + std::to_string(t + 1) + " has a non-finite point", kMeshFix);
-          tri[std::size_t(k)] = w.add(x);
-        }
-        w.m.triangles.push_back(tri);
+  // Binary if the size matches the count (ASCII files may also start with "solid"), or if the
+  // file is not text at all: then the count is wrong.
+  std::uint32_t count = 0;
+  if (bytes.size() >= kStlHeader) std::memcpy(&count, bytes.data() + 80, 4);
+  const bool binary =
+      bytes.size() >= kStlHeader && bytes.size() == kStlHeader + kStlTriangle * std::size_t(count);
+  if (!binary && !is_text(bytes)) bad_stl_count(file, bytes.size(), count);
+  if (binary) {
+    for (std::size_t t = 0; t < count; ++t) {
+      std::array<std::int64_t, 3> tri{};
+      for (int k = 0; k < 3; ++k) {
+        float c[3];
+        std::memcpy(c, bytes.data() + kStlHeader + kStlTriangle * t + 12 + 12 * std::size_t(k), 12);
+        const Vec3 x(c[0], c[1], c[2]);
+        if (!x.allFinite())
+          throw Error(file.string(),
+                      "triangle " + std::to_string(t + 1) + " has a non-finite point", kMeshFix);
+        tri[std::size_t(k)] = w.add(x);
       }
-      return w.m;
+      w.m.triangles.push_back(tri);
     }
+    return w.m;
   }
   std::istringstream in(bytes);
   std::string text;
@@ -140,15 +179,28 @@ TriangleMesh read_mesh(const std::filesystem::path& file) {
   const std::string ext = lower(file.extension().string());
   if (ext != ".obj" && ext != ".stl")
     throw Error(file.string(), "is neither .obj nor .stl", "give an OBJ or STL file");
+  // By its size, before a byte is read: a damaged or sparse file of gigabytes would otherwise
+  // take seconds and gigabytes of memory to refuse.
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(file, ec);
+  if (!ec && size > kMaxMeshFileBytes)
+    throw Error(file.string(),
+                "is " + std::to_string(size >> 20) + " MiB, more than the " +
+                    std::to_string(kMaxMeshFileBytes >> 20) + " MiB a mesh zone may have",
+                kSimplifyFix);
   std::ifstream in(file, std::ios::binary);
   if (!in) throw Error(file.string(), "cannot be read", "check the path");
   TriangleMesh m;
-  if (ext == ".obj") {
-    m = read_obj(file, in);
-  } else {
-    std::ostringstream all;
-    all << in.rdbuf();
-    m = read_stl(file, all.str());
+  try {
+    if (ext == ".obj") {
+      m = read_obj(file, in);
+    } else {
+      std::ostringstream all;
+      all << in.rdbuf();
+      m = read_stl(file, all.str());
+    }
+  } catch (const std::bad_alloc&) {
+    throw Error(file.string(), "needs more memory to read than this machine has", kSimplifyFix);
   }
   if (m.triangles.empty()) throw Error(file.string(), "has no triangles", kMeshFix);
   return m;

@@ -40,6 +40,7 @@ constexpr const char* kWriteFix =
     "check that the directory is writable and the disk is not full; nothing was written";
 constexpr const char* kJointsFix = "regenerate it with slice-joints";
 constexpr const char* kBlocksFix = "regenerate it with slice-cut";
+constexpr const char* kGeometryFix = "regenerate it with slice-vertices";  // /geometry's writer
 
 // Shortest text that reads back as the same double ("nan", "inf", "0.1").
 std::string num(double v) {
@@ -227,7 +228,7 @@ void check_joints(const Checker& c, const JointSystem& js) {
     try {
       check_solid_mesh(m, which);
     } catch (const Error& e) {
-      c.fail(std::string("it does not bound a solid: ") + e.what());
+      c.fail(e.where() + " does not bound a solid: " + e.problem());  // the file's fix only
     }
     // As the scene parser refuses it: a mesh whose bounding box has no volume in the domain.
     Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
@@ -1408,8 +1409,16 @@ BlockSystem read_blocks(const fs::path& in) {
   BlockSystem bs;
   bs.joints = read_joint_groups(f.root());
   bs.blocks = read_blocks_group(f.root(), bs.pruned);
-  if (f.root().exists("geometry")) bs.geometry = read_geometry_group(f.root(), bs.blocks);
-  check_blocks(Checker(in.string(), kBlocksFix), bs);
+  if (f.root().exists("geometry")) {
+    try {
+      bs.geometry = read_geometry_group(f.root(), bs.blocks);
+    } catch (const Error& e) {  // slice-vertices wrote /geometry, not slice-cut
+      if (e.fix() != kBlocksFix) throw;
+      throw Error(e.where(), e.problem(), kGeometryFix);
+    }
+  }
+  check_blocks(Checker(in.string(), kBlocksFix), bs, false);
+  if (bs.geometry) check_geometry(Checker(in.string(), kGeometryFix), bs);
   return bs;
 }
 

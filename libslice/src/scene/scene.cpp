@@ -592,7 +592,7 @@ Region region_of(const Tbl& t, int dimension) {
                                            : "add normal = [nx, nz], pointing outward");
     const Vec3 n = to_point(r, nn, p.label("normal"), dimension);
     const double d = required_number(p, "d", "add d, so that the plane is normal . x = d");
-    const double len = n.norm();
+    const double len = std::isfinite(n.norm()) && n.norm() > 0 ? n.norm() : n.stableNorm();
     if (!(len > 0) || !std::isfinite(len))
       r.fail(nn, p.label("normal") + " is " + fmt(n) + ", which has no direction",
              "give the plane's outward normal, e.g. [0, 0, 1] for a top face");
@@ -743,9 +743,10 @@ Common read_common(const Tbl& t) {
   return c;
 }
 
-// In a section in (x, z) a joint dips towards +x or -x (docs/2d.md).
+// In a section in (x, z) a joint dips towards +x or -x (docs/2d.md); a horizontal one has no
+// dip direction, so any is accepted (docs/scenes.md): its normal is +z all the same.
 void check_section_dip(const Context& cx, const Tbl& t, const Common& c) {
-  if (cx.dimension == 2 && c.dip_direction != 90 && c.dip_direction != 270)
+  if (cx.dimension == 2 && c.dip != 0 && c.dip_direction != 90 && c.dip_direction != 270)
     t.r.fail(*t.find("dip_direction"),
              t.label("dip_direction") + " is " + fmt(c.dip_direction) +
                  "; in a 2-D scene (a section in x, z) a joint dips towards +x or -x",
@@ -1326,7 +1327,8 @@ Tunnel read_tunnel(const Context& cx, const Tbl& zone, const toml::node& node) {
   const toml::node& dn =
       t.require("direction", "add direction = [dx, dy, dz], the axis direction from 'point'");
   const Vec3 d = to_vector<3>(r, dn, t.label("direction"));
-  const double len = d.norm();
+  // Its squares may overflow (1e308) or underflow (1e-200) where the direction does not.
+  const double len = std::isfinite(d.norm()) && d.norm() > 0 ? d.norm() : d.stableNorm();
   if (!(len > 0) || !std::isfinite(len))
     r.fail(dn, t.label("direction") + " is " + fmt(d) + ", which has no direction",
            "give the axis direction, e.g. [0, 1, 0] for a tunnel driven North");
@@ -1334,6 +1336,17 @@ Tunnel read_tunnel(const Context& cx, const Tbl& zone, const toml::node& node) {
   t.require("length", "add length = L, the tunnel's length along its axis from 'point'");
   tun.length = positive(t, "length", "give the tunnel's length along its axis, > 0");
   tun.outline = read_section(cx, t);
+  // The sides lie about this far from the axis: their offsets must resolve the tolerance.
+  double reach = 0;
+  for (const Vec2& v : tun.outline) reach = std::max(reach, v.stableNorm());
+  const double step = reach * std::numeric_limits<double>::epsilon();
+  if (step > cx.tol())
+    r.fail(t.find("radius") ? *t.find("radius") : *t.find("outline"),
+           t.ctx + " reaches " + fmt(reach, 3) + " from its axis, where doubles step by " +
+               fmt(step, 3) + ", coarser than the tolerance " + fmt(cx.tol(), 3) +
+               " (tolerance x the domain's bounding radius)",
+           "give the section in the scene's length unit; a box zone larger than the domain "
+           "removes all of it");
   return tun;
 }
 
@@ -1379,9 +1392,8 @@ void read_mesh_zone(const Context& cx, const Tbl& t, const toml::node& node, boo
   try {
     mesh = read_mesh(file);
     check_solid_mesh(mesh, file.string());
-  } catch (const Error& e) {
-    r.fail(node, t.label("mesh") + ": " + e.what(),
-           "give a closed triangle mesh, counter-clockwise seen from outside");
+  } catch (const Error& e) {  // its own fix: one per line
+    r.fail(node, t.label("mesh") + ": " + e.where() + ": " + e.problem(), e.fix());
   }
   Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
   for (const Vec3& x : mesh.vertices) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
@@ -1696,6 +1708,21 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
       r.fail(at, "the 'planes' of [domain] do not enclose a bounded region",
              "add planes (outward normals, normal . x <= d inside) that close it in every "
              "direction");
+    if (cx.domain_info.status == RegionStatus::empty && dt->get("box")) {
+      // min < max on every axis (region_of): only the tolerance flattens a box.
+      Vec3 size = Vec3::Zero();  // box_planes: axis normals, the two d of an axis add up
+      for (const Plane& p : scene.domain.planes) size += p.d * p.normal.cwiseAbs();
+      int thin = 0;  // the thinnest axis (a section has no y)
+      (scene.dimension == 2 ? Vec3(size.x(), INFINITY, size.z()) : size).minCoeff(&thin);
+      const double scale = 0.5 * size.norm(), tol = scene.options.tolerance * scale;
+      r.fail(
+          *dt->get("box"),
+          "the 'box' of [domain] is only " + fmt(size(thin), 4) + " thick in " +
+              std::string(1, "xyz"[thin]) + ": the tolerance, " + fmt(scene.options.tolerance, 4) +
+              " x the length scale " + fmt(scale, 4) + " = " + fmt(tol, 4) +
+              ", leaves it no volume",
+          "make the box thicker than a few times " + fmt(tol, 4) + ", or lower [scene] tolerance");
+    }
     if (cx.domain_info.status == RegionStatus::empty)
       r.fail(at,
              "the 'planes' of [domain] enclose no volume (the half-spaces normal . x <= d "

@@ -431,6 +431,25 @@ std::size_t checked_size(hid_t ds, hid_t type, int rank, const hsize_t* dims, co
   const double bytes = count * double(element);
   Handle dcpl = own(H5Dget_create_plist(ds), Handle::Type::plist, ctx, "cannot read " + p);
   const int filters = check(H5Pget_nfilters(dcpl.id()), ctx, "cannot read " + p);
+  // A filter this build lacks (LZF, Blosc, ...: HDF5 looks for a plugin) would fail the read
+  // with HDF5's "can't open directory" of its plugin folder; say what is missing instead.
+  for (int i = 0; i < filters; ++i) {
+    char name[64] = {};
+    unsigned flags = 0, config = 0;
+    std::size_t nvalues = 0;
+    const H5Z_filter_t id = H5Pget_filter2(dcpl.id(), unsigned(i), &flags, &nvalues, nullptr,
+                                           sizeof name, name, &config);
+    const htri_t avail = id < 0 ? 0 : H5Zfilter_avail(id);
+    H5Eclear2(H5E_DEFAULT);
+    if (avail <= 0)
+      throw Error(ctx.file,
+                  p + " uses the HDF5 compression filter " +
+                      (name[0] ? "\"" + std::string(name) + "\" " : std::string()) + "(id " +
+                      std::to_string(id) + "), which this build of rockslice cannot read",
+                  "rewrite it without that filter (h5repack -f NONE, where the filter is "
+                  "installed), or " +
+                      ctx.fix);
+  }
   const double stored = double(H5Dget_storage_size(ds));
   const double can_hold = filters > 0 ? stored * kMaxCompression : stored;
   if (bytes > can_hold)
