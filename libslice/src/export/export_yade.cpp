@@ -89,17 +89,18 @@ progress('building %d bodies' % len(BLOCKS))
 SHRINK = 1 - INITIAL_GAP
 # Two fixed bodies never move, so their contact does nothing: fixed bodies (and the members of a
 # fixed clump) get FIXED_MASK, which the collider's avoidSelfInteractionMask keeps apart, and
-# free bodies FREE_MASK, which meets both.
-FREE_MASK, FIXED_MASK, NOT_AMONG_FIXED = 1, 3, 2
+# free bodies FREE_MASK, which meets both. NOT_AMONG_FIXED = 0 pairs fixed bodies again.
+FREE_MASK, FIXED_MASK = 1, 3
+NOT_AMONG_FIXED = 2  # the collider's avoidSelfInteractionMask
 for i, (block, fixed, phi, cluster, volume, centroid, vertices) in enumerate(BLOCKS):
     mat = PolyhedraMat(young=YOUNG, poisson=POISSON, frictionAngle=math.radians(phi),
                        density=DENSITY / SHRINK ** 3, label='block-%d' % block)
     O.materials.append(mat)
     grey = 0.35 if fixed else 0.75
     c = Vector3(centroid)
-    body = polyhedra_utils.polyhedra(mat, v=[c + SHRINK * (Vector3(p) - c) for p in vertices],
-                                     fixed=bool(fixed), mask=FIXED_MASK if fixed else FREE_MASK,
-                                     color=(grey, grey, grey))
+    shape = [c + SHRINK * (Vector3(p) - c) for p in vertices] if INITIAL_GAP else vertices
+    body = polyhedra_utils.polyhedra(mat, v=shape, fixed=bool(fixed),
+                                     mask=FIXED_MASK if fixed else FREE_MASK, color=(grey, grey, grey))
 )";
     if (section)
       s << R"(    if not fixed:
