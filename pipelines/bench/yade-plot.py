@@ -1,7 +1,10 @@
 """Plots results/yade-steps.csv (pipelines/bench/yade-steps.sh): seconds per step against bodies,
-and the throughput in steps per second per 1,000 bodies, for each variant and thread count.
-    /usr/bin/python3 pipelines/bench/yade-plot.py results/yade-steps.csv results/yade-steps.png
+and the throughput in steps per second per 1,000 bodies, for each variant and thread count; with
+results/yade-settle.csv, a third panel: seconds per step along the 1k box's settling run.
+    /usr/bin/python3 pipelines/bench/yade-plot.py results/yade-steps.csv results/yade-steps.png \
+        [results/yade-settle.csv]
 """
+import os
 import csv
 import sys
 
@@ -11,7 +14,9 @@ matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 
 rows = list(csv.DictReader(open(sys.argv[1])))
-fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
+settle = sys.argv[3] if len(sys.argv) > 3 and os.path.exists(sys.argv[3]) else ''
+fig, axes = plt.subplots(1, 3 if settle else 2, figsize=(16 if settle else 11, 4.5))
+ax1, ax2 = axes[0], axes[1]
 styles = {'touching': ('tab:red', 'before (touching, fixed pairs)'),
           'export': ('tab:blue', 'now (1e-6 gap, no fixed pairs)'),
           'gap-only': ('tab:green', 'gap only'),
@@ -45,6 +50,31 @@ ax2.set_ylabel('steps per second per 1,000 bodies')
 ax2.set_ylim(bottom=0)
 ax2.grid(True, which='both', alpha=0.3)
 ax2.legend(fontsize=7)
+if settle:
+    ax3 = axes[2]
+    srows = list(csv.DictReader(open(settle)))
+    for variant, (colour, label) in styles.items():
+        pts = [(int(r['iteration']), float(r['cpu_s_per_step']), int(r['real']))
+               for r in srows if r['variant'] == variant]
+        if pts:
+            ax3.plot([p[0] for p in pts], [p[1] for p in pts], marker='o', color=colour,
+                     label=label + ', CPU s per step')
+    ax3b = ax3.twinx()
+    for variant, (colour, label) in styles.items():
+        pts = [(int(r['iteration']), int(r['real'])) for r in srows if r['variant'] == variant]
+        if pts:
+            ax3b.plot([p[0] for p in pts], [p[1] for p in pts], linestyle=':', color=colour,
+                      label=label + ', real contacts')
+    ax3.set_xlabel('step')
+    ax3.set_ylabel('CPU seconds per step (1 core)')
+    ax3b.set_ylabel('real contacts (dotted)')
+    ax3.set_ylim(bottom=0)
+    ax3b.set_ylim(bottom=0)
+    ax3.set_title('%s settling (%s bodies)' % (srows[0]['scene'] if srows else '',
+                                              next((r['bodies'] for r in rows if srows and
+                                                    r['scene'] == srows[0]['scene']), '?')))
+    ax3.grid(True, alpha=0.3)
+    ax3.legend(fontsize=7, loc='lower right')
 machine = rows[0]['machine'] if rows else ''
 fig.suptitle('YADE 2023.02a Polyhedra, exported by slice-export --format yade (%s)' % machine,
              fontsize=9)

@@ -9,7 +9,9 @@
 #   gap-only     INITIAL_GAP as exported, NOT_AMONG_FIXED = 0   (1k box only: what each
 #   fixed-pairs  INITIAL_GAP = 0, NOT_AMONG_FIXED as exported    change is worth)
 # Each run builds the model, runs WARMUP steps, then times STEPS steps (fewer for larger
-# models, so that a run stays within minutes). Writes results/yade-steps.csv and .png.
+# models, so that a run stays within minutes). Then the 1k box's touching and exported models
+# run 150 steps of settling, timed every 10 (yade-settle.py). Writes results/yade-steps.csv,
+# results/yade-settle.csv and results/yade-steps.png.
 #   bash pipelines/bench/yade-steps.sh                 (after bash pipelines/setup)
 #   YADE_STEPS_SIZES="9.6" YADE_STEPS_THREADS="1" bash pipelines/bench/yade-steps.sh   (quick)
 #   YADE_STEPS_PERF=dir bash ...    also `perf record -g` the timed steps into dir/*.data
@@ -92,4 +94,17 @@ for scene in "${scenes[@]}"; do
     for t in "${threads[@]}"; do run "$scene" "$work/$scene" "$v" "$t"; done
   done
 done
-/usr/bin/python3 "$bench/yade-plot.py" "$csv" "$results/yade-steps.png"
+
+# The 1k box along a settling run, one core: where the time goes once the blocks rest on each
+# other (YADE_STEPS_SETTLE=0 skips it).
+settle=$results/yade-settle.csv
+if [ "${YADE_STEPS_SETTLE:-150}" -gt 0 ]; then
+  echo "scene,variant,iteration,wall_s_per_step,cpu_s_per_step,pairs,real,machine" >"$settle"
+  for v in touching export; do
+    : >"$work/settle"
+    OMP_NUM_THREADS=1 yade -n -j1 -x "$bench/yade-settle.py" "$work/yade-box-${sizes[0]}/$v.py" \
+      "${YADE_STEPS_SETTLE:-150}" 10 "$work/settle" >"$work/yade.log" 2>&1 </dev/null
+    sed "s/^/yade-box-${sizes[0]},$v,/; s/\$/,$machine/" "$work/settle" | tee -a "$settle"
+  done
+fi
+/usr/bin/python3 "$bench/yade-plot.py" "$csv" "$results/yade-steps.png" "$settle"
