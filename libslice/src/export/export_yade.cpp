@@ -81,8 +81,8 @@ def progress(what):
     print('rockslice: %s (%.0f s)' % (what, time.time() - started), flush=True)
 progress('building %d bodies' % len(BLOCKS))
 # Neighbouring blocks share faces exactly. YADE's Polyhedra contact (Ig2) then intersects every
-# touching pair with CGAL at every step, for a volume of rounding size (3 to 5 times the cost of
-# a pair that is apart). So each body is its block scaled by SHRINK about the block's centroid:
+# touching pair with CGAL at every step, for a volume of rounding size (about 4 times the cost
+# of a pair that is apart; docs/yade-speed.md). So each body is its block scaled by SHRINK about the block's centroid:
 # faces that touched open by INITIAL_GAP x the sum of the two centroids' distances to the face
 # (1e-6 of the blocks' size), and the density is divided by SHRINK^3 so that every body keeps
 # its block's mass. INITIAL_GAP = 0 gives the touching blocks back.
@@ -99,8 +99,8 @@ for i, (block, fixed, phi, cluster, volume, centroid, vertices) in enumerate(BLO
     grey = 0.35 if fixed else 0.75
     c = Vector3(centroid)
     shape = [c + SHRINK * (Vector3(p) - c) for p in vertices] if INITIAL_GAP else vertices
-    body = polyhedra_utils.polyhedra(mat, v=shape, fixed=bool(fixed),
-                                     mask=FIXED_MASK if fixed else FREE_MASK, color=(grey, grey, grey))
+    body = polyhedra_utils.polyhedra(mat, v=shape, fixed=bool(fixed), color=(grey, grey, grey),
+                                     mask=FIXED_MASK if fixed else FREE_MASK)
 )";
     if (section)
       s << R"(    if not fixed:
