@@ -13,7 +13,12 @@ try:
     exec(compile(open(model).read(), model, 'exec'))
     out = {'iterations': O.iter, 'dt': O.dt, 'bodies': [],
            'body_of_block': {str(k): v for k, v in body_of_block.items()},
-           'clump_of_cluster': {str(k): v for k, v in clump_of_cluster.items()}}
+           'clump_of_cluster': {str(k): v for k, v in clump_of_cluster.items()},
+           # Polyhedra scripts only: the relative gap the bodies start with (SHRINK = 1 - gap)
+           'initial_gap': globals().get('INITIAL_GAP', 0.0),
+           'real_interactions': O.interactions.countReal(),
+           # every pair the collider holds, real or not: [id1, id2]
+           'pairs': [[i.id1, i.id2] for i in O.interactions.all(False)]}
     for b in O.bodies:
         row = {'id': b.id, 'is_clump': b.isClump,
                'clump': b.clumpId if b.isClumpMember else -1,

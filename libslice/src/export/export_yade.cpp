@@ -49,6 +49,10 @@ std::string py_str(const std::string& s) {
   return q + "'";
 }
 
+// YADE Polyhedra bodies are their blocks scaled by 1 - kInitialGap about the centroid, so that
+// faces that touch open a little (the script's comment before SHRINK says why).
+constexpr double kInitialGap = 1e-6;
+
 // Everything the script needs of one block.
 struct BodyData {
   std::size_t block = 0;
@@ -77,12 +81,27 @@ started = time.time()
 def progress(what):
     print('rockslice: %s (%.0f s)' % (what, time.time() - started), flush=True)
 progress('building %d bodies' % len(BLOCKS))
-for i, (block, fixed, phi, cluster, volume, vertices) in enumerate(BLOCKS):
+# Neighbouring blocks share faces exactly. YADE's Polyhedra contact (Ig2) then intersects every
+# touching pair with CGAL at every step, for a volume of rounding size (about 4 times the cost
+# of a pair that is apart; docs/yade-speed.md). So each body is its block scaled by SHRINK about the block's centroid:
+# faces that touched open by INITIAL_GAP x the sum of the two centroids' distances to the face
+# (1e-6 of the blocks' size), and the density is divided by SHRINK^3 so that every body keeps
+# its block's mass. INITIAL_GAP = 0 gives the touching blocks back.
+SHRINK = 1 - INITIAL_GAP
+# Two fixed bodies never move, so their contact does nothing: fixed bodies (and the members of a
+# fixed clump) get FIXED_MASK, which the collider's avoidSelfInteractionMask keeps apart, and
+# free bodies FREE_MASK, which meets both. NOT_AMONG_FIXED = 0 pairs fixed bodies again.
+FREE_MASK, FIXED_MASK = 1, 3
+NOT_AMONG_FIXED = 2  # the collider's avoidSelfInteractionMask
+for i, (block, fixed, phi, cluster, volume, centroid, vertices) in enumerate(BLOCKS):
     mat = PolyhedraMat(young=YOUNG, poisson=POISSON, frictionAngle=math.radians(phi),
-                       density=DENSITY, label='block-%d' % block)
+                       density=DENSITY / SHRINK ** 3, label='block-%d' % block)
     O.materials.append(mat)
     grey = 0.35 if fixed else 0.75
-    body = polyhedra_utils.polyhedra(mat, v=vertices, fixed=bool(fixed), color=(grey, grey, grey))
+    c = Vector3(centroid)
+    shape = [c + SHRINK * (Vector3(p) - c) for p in vertices] if INITIAL_GAP else vertices
+    body = polyhedra_utils.polyhedra(mat, v=shape, fixed=bool(fixed), color=(grey, grey, grey),
+                                     mask=FIXED_MASK if fixed else FREE_MASK)
 )";
     if (section)
       s << R"(    if not fixed:
@@ -133,6 +152,10 @@ for cluster in sorted(members_of_cluster):
     if cluster in fixed_cluster:
         O.bodies[clump].state.blockedDOFs = 'xyzXYZ'
 )";
+  if (!pb)
+    s << R"(        for member in members:
+            O.bodies[member].mask = FIXED_MASK
+)";
   if (section)
     s << R"(    else:
         O.bodies[clump].state.blockedDOFs = 'yXZ'
@@ -164,7 +187,8 @@ smallest = min(moving) if moving else 1.0
 log.setLevel('Polyhedra_support.cpp', log.ERROR)
 O.engines = [
     ForceResetter(),
-    InsertionSortCollider([Bo1_Polyhedra_Aabb()], verletDist=0.01 * smallest ** (1.0 / 3)),
+    InsertionSortCollider([Bo1_Polyhedra_Aabb()], verletDist=0.01 * smallest ** (1.0 / 3),
+                          avoidSelfInteractionMask=NOT_AMONG_FIXED),
     InteractionLoop(
         [Ig2_Polyhedra_Polyhedra_PolyhedraGeom()],
         [Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys()],
@@ -338,16 +362,18 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
       << "DAMPING = " << num(opt.damping) << "\n"
       << "GRAVITY = " << num(opt.gravity) << "  # m/s2, along -z\n"
       << "TIMESTEP_FACTOR = " << num(opt.timestep_factor) << "\n";
+    if (!pb) s << "INITIAL_GAP = " << num(kInitialGap) << "  # relative: see SHRINK below\n";
     if (pb) s << "PB_ROUNDING = " << num(opt.pb_rounding) << "\n";
     s << "\n";
 
     if (!pb) {
       s << "# (block id in blocks.h5, fixed, friction angle [deg], cluster (-1: none), volume "
-           "(/geometry),\n#  vertices (global))\n"
+           "(/geometry),\n#  centroid (/geometry), vertices (global))\n"
         << "BLOCKS = [\n";
       for (const BodyData& d : bodies) {
+        // A section's prism has its polygon's centroid: y = 0 is its middle.
         s << "(" << d.block << ", " << (d.fixed ? 1 : 0) << ", " << num(d.friction) << ", "
-          << d.cluster << ", " << num(d.volume) << ", (";
+          << d.cluster << ", " << num(d.volume) << ", " << vec(d.centroid) << ", (";
         // A section's polygon (y = 0) becomes its prism: the polygon at y = -0.5, then at 0.5.
         for (const double y : section ? std::vector<double>{-0.5, 0.5} : std::vector<double>{0})
           for (auto v = g.vertex_offset[d.block]; v < g.vertex_offset[d.block + 1]; ++v)
