@@ -45,6 +45,9 @@ struct Block {
   std::int64_t cluster = -1;                          // cluster id; -1 = none
 };
 
+/// A block that never moves in a DEM model: a boundary block or one on a fixed_faces face.
+inline bool is_fixed(const Block& b) { return (b.flags & (kBoundary | kFixed)) != 0; }
+
 /// Inertia tensor components, in the order of HDF5 /geometry/inertia: xx yy zz xy yz zx.
 /// The tensor of the block at unit density about its centroid, I = integral of
 /// (|r|^2 Id - r r^T) dV, so off-diagonal entries carry the minus sign (Ixy = -integral x y dV).

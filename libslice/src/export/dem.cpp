@@ -16,8 +16,6 @@ const Geometry& geometry_of(const BlockSystem& bs) {
   return *bs.geometry;
 }
 
-bool is_fixed(const Block& b) { return (b.flags & (kBoundary | kFixed)) != 0; }
-
 }  // namespace
 
 DemBodies dem_bodies(const BlockSystem& bs) {

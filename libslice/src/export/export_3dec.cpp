@@ -282,8 +282,6 @@ std::map<std::int64_t, std::vector<std::size_t>> joined_clusters(const BlockSyst
   return clusters;
 }
 
-bool is_fixed(const Block& b) { return b.flags & (kBoundary | kFixed); }
-
 /// The bodies and 3DEC's critical time step (ThreeDecStats).
 void time_step(const BlockSystem& bs, const ThreeDecOptions& opt,
                const std::vector<Contact>& contacts, ThreeDecStats& st) {

@@ -110,7 +110,7 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
     r_inradius.add(blk.inradius);
     r_cluster.add(double(blk.cluster));
     r_boundary.add((blk.flags & kBoundary) ? 1 : 0);
-    r_fixed.add((blk.flags & (kBoundary | kFixed)) ? 1 : 0);
+    r_fixed.add(is_fixed(blk) ? 1 : 0);
     r_aspect.add(aspect(blk));
     for (auto v = g.vertex_offset[b]; v < g.vertex_offset[b + 1]; ++v)
       r_points.add(g.vertices[std::size_t(v)].norm());
@@ -155,9 +155,8 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
     stream<std::uint8_t>(f, cells, cells, [&](std::size_t k, auto& o) {
       o.push_back((block(k).flags & kBoundary) ? 1 : 0);
     });
-    stream<std::uint8_t>(f, cells, cells, [&](std::size_t k, auto& o) {
-      o.push_back((block(k).flags & (kBoundary | kFixed)) ? 1 : 0);
-    });
+    stream<std::uint8_t>(f, cells, cells,
+                         [&](std::size_t k, auto& o) { o.push_back(is_fixed(block(k)) ? 1 : 0); });
     stream<double>(f, cells, cells, [&](std::size_t k, auto& o) { o.push_back(aspect(block(k))); });
     stream<double>(f, cells, 3 * points, [&](std::size_t k, auto& o) {
       for (auto v = g.vertex_offset[kept[k]]; v < g.vertex_offset[kept[k] + 1]; ++v) {

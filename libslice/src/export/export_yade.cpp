@@ -7,7 +7,6 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
-#include <map>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -302,17 +301,14 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
       ++st.removed;
       continue;
     }
-    bodies.push_back({b, (blk.flags & (kBoundary | kFixed)) != 0,
+    bodies.push_back({b, is_fixed(blk),
                       block_friction_deg(bs, b, first_face, opt.default_friction_deg), blk.cluster,
                       g.volume[b], g.centroid[b]});
     st.fixed += bodies.back().fixed ? 1 : 0;
   }
-  std::map<std::int64_t, std::size_t> cluster_size;
-  for (const BodyData& d : bodies)
-    if (d.cluster >= 0) ++cluster_size[d.cluster];
-  for (const auto& [c, n] : cluster_size) st.clumps += n >= 2 ? 1 : 0;
   st.bodies = bodies.size();
   st.dem = dem_bodies(bs);
+  st.clumps = st.dem.clumps;  // clusters of two or more kept blocks
   // Both scripts set O.dt by the same rule.
   st.timestep = yade_timestep(st.dem, opt.density, opt.young, opt.timestep_factor);
 

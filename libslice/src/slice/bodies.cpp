@@ -102,8 +102,6 @@ double depth_behind(const Block& b, std::size_t f, LpSolver& solver, const Toler
   return r.status == LpStatus::optimal ? b.faces[f].d + r.objective : -1;
 }
 
-bool is_fixed(const Block& b) { return (b.flags & (kBoundary | kFixed)) != 0; }
-
 /// Clusters (DESIGN section 4): kept blocks with opposite faces of the same construction joint
 /// whose other faces leave a region of the shared plane with positive area. A removed block
 /// joins no cluster, so nothing kept is joined through one (kept blocks at a slope face would
