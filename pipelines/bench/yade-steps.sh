@@ -15,6 +15,8 @@
 #   bash pipelines/bench/yade-steps.sh                 (after bash pipelines/setup)
 #   YADE_STEPS_SIZES="9.6" YADE_STEPS_THREADS="1" bash pipelines/bench/yade-steps.sh   (quick)
 #   YADE_STEPS_PERF=dir bash ...    also `perf record -g` the timed steps into dir/*.data
+#   YADE_STEPS_VARIANTS="export" YADE_STEPS_SETTLE=0 YADE_STEPS_CSV=results/yade-steps-quiet.csv \
+#     bash ...                       only these variants, into another CSV (its own plot beside it)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 bench=$root/pipelines/bench
@@ -28,7 +30,7 @@ read -r -a threads <<<"${YADE_STEPS_THREADS:-1 2}"
 command -v yade >/dev/null || { echo "yade-steps: no yade on PATH; run pipelines/setup" >&2; exit 1; }
 
 machine="$(nproc)-vCPU $(lscpu | sed -n 's/^Model name: *//p' | head -n 1)"
-csv=$results/yade-steps.csv
+csv=${YADE_STEPS_CSV:-$results/yade-steps.csv}
 echo "scene,bodies,variant,threads,warmup,steps,pairs,real,build_s,wall_s_per_step,cpu_s_per_step,collider_runs,load_1min,machine" >"$csv"
 
 # model <scene.toml> <dir>: joints, blocks, geometry and the exported script dir/model.py.
@@ -87,8 +89,12 @@ for s in "${sizes[@]}"; do
   scenes+=("yade-box-$s")
 done
 for scene in "${scenes[@]}"; do
-  variants=(touching export)
-  [ "$scene" != "yade-box-${sizes[0]}" ] || variants+=(gap-only fixed-pairs)
+  if [ -n "${YADE_STEPS_VARIANTS:-}" ]; then
+    read -r -a variants <<<"$YADE_STEPS_VARIANTS"
+  else
+    variants=(touching export)
+    [ "$scene" != "yade-box-${sizes[0]}" ] || variants+=(gap-only fixed-pairs)
+  fi
   for v in "${variants[@]}"; do
     variant "$work/$scene" "$v"
     for t in "${threads[@]}"; do run "$scene" "$work/$scene" "$v" "$t"; done
@@ -97,8 +103,9 @@ done
 
 # The 1k box along a settling run, one core: where the time goes once the blocks rest on each
 # other (YADE_STEPS_SETTLE=0 skips it).
-settle=$results/yade-settle.csv
+settle=
 if [ "${YADE_STEPS_SETTLE:-150}" -gt 0 ]; then
+  settle=$results/yade-settle.csv
   echo "scene,variant,iteration,wall_s_per_step,cpu_s_per_step,pairs,real,machine" >"$settle"
   for v in touching export; do
     : >"$work/settle"
@@ -107,4 +114,4 @@ if [ "${YADE_STEPS_SETTLE:-150}" -gt 0 ]; then
     sed "s/^/yade-box-${sizes[0]},$v,/; s/\$/,$machine/" "$work/settle" | tee -a "$settle"
   done
 fi
-/usr/bin/python3 "$bench/yade-plot.py" "$csv" "$results/yade-steps.png" "$settle"
+/usr/bin/python3 "$bench/yade-plot.py" "$csv" "${csv%.csv}.png" "$settle"
