@@ -110,10 +110,11 @@ ordered_json describe_shapes(const slice::BlockSystem& bs) {
                         {"blocks", s.count[c]},
                         {"volume", s.volume[c]},
                         {"volume_fraction", volume > 0 ? s.volume[c] / volume : 0.0}});
-  return {{"method", "alpha, beta: docs/block-shape.md"},
-          {"blocks", kept},
-          {"volume", volume},
-          {"by_class", by_class}};
+  return {
+      {"method", "alpha = A lbar / (7.7 V), beta = MBSCT elongation index: docs/block-shape.md"},
+      {"blocks", kept},
+      {"volume", volume},
+      {"by_class", by_class}};
 }
 
 void print_text(const ordered_json& j, const std::string& indent = "") {
