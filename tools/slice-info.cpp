@@ -3,6 +3,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "common/tool.hpp"
 #include "slice/dem.hpp"
@@ -10,6 +11,7 @@
 #include "slice/h5io.hpp"
 #include "slice/polytope.hpp"
 #include "slice/scene.hpp"
+#include "slice/shape.hpp"
 
 namespace {
 
@@ -87,6 +89,34 @@ ordered_json describe_bodies(const slice::BlockSystem& bs, const slice::YadeOpti
   return j;
 }
 
+// Kept blocks by shape class of the block shape diagram (docs/block-shape.md): removed blocks
+// are left out, so the classes' volumes add up to the kept volume. A 2-D section has none.
+ordered_json describe_shapes(const slice::BlockSystem& bs) {
+  if (bs.joints.dimension != 3) return nullptr;
+  const auto& g = *bs.geometry;
+  std::vector<bool> keep(bs.blocks.size());
+  std::size_t kept = 0;
+  double volume = 0;
+  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
+    keep[b] = (bs.blocks[b].flags & slice::kRemoved) == 0;
+    kept += keep[b] ? 1 : 0;
+    volume += keep[b] ? g.volume[b] : 0;
+  }
+  const auto shapes = slice::block_shapes(bs.blocks, g, bs.joints.dimension);
+  const slice::ShapeSummary s = slice::summarise_shapes(shapes, g.volume, keep);
+  ordered_json by_class = ordered_json::array();
+  for (std::size_t c = 0; c < slice::kShapeClasses.size(); ++c)
+    by_class.push_back({{"class", slice::to_string(slice::kShapeClasses[c])},
+                        {"blocks", s.count[c]},
+                        {"volume", s.volume[c]},
+                        {"volume_fraction", volume > 0 ? s.volume[c] / volume : 0.0}});
+  return {
+      {"method", "alpha = A lbar / (7.7 V), beta = MBSCT elongation index: docs/block-shape.md"},
+      {"blocks", kept},
+      {"volume", volume},
+      {"by_class", by_class}};
+}
+
 void print_text(const ordered_json& j, const std::string& indent = "") {
   for (const auto& [key, value] : j.items()) {
     if (value.is_object()) {
@@ -158,6 +188,7 @@ int main(int argc, char** argv) {
                          {"removed_volume", removed_volume},
                          {"rock_bridge_faces", bridge_faces}};
         j["dem"] = describe_bodies(bs, yade);
+        j["shape"] = describe_shapes(bs);
         // Beside each set's P32 in the DFN, the open joint area it keeps in the block model.
         const std::vector<double> p32 = slice::realised_p32(bs);
         auto& sets = j["joints"]["by_set"];
