@@ -1,0 +1,237 @@
+// The pipeline's stages in-process (slice-joints, slice-cut, slice-prune, slice-vertices) and
+// the files: each stage makes a new Model; the library runs off the interpreter's lock
+// (run_interruptible).
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "rockslice.hpp"
+#include "slice/cut.hpp"
+#include "slice/error.hpp"
+#include "slice/hash.hpp"
+#include "slice/scene.hpp"
+#include "slice/vertices.hpp"
+
+namespace rockslice {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::shared_ptr<Model> make_model(slice::BlockSystem&& bs, Stage stage,
+                                  const slice::Provenance& prov) {
+  auto m = std::make_shared<Model>();
+  m->bs = std::make_shared<slice::BlockSystem>(std::move(bs));
+  m->stage = stage;
+  m->provenance = prov;
+  return m;
+}
+
+Stage stage_of(const slice::BlockSystem& bs) {
+  return bs.geometry ? Stage::geometry : bs.pruned ? Stage::pruned : Stage::blocks;
+}
+
+// The joints of a scene: a file (`text` empty) or TOML text standing for the file `name`.
+slice::JointSystem generate(const std::string& text, const fs::path& name,
+                            std::optional<std::uint64_t> seed) {
+  slice::Scene scene = text.empty() ? slice::load_scene(name) : slice::parse_scene(text, name);
+  if (seed) scene.seed = *seed;
+  return slice::generate_joints(scene);
+}
+
+std::string input_sha256(const std::string& text, const fs::path& name) {
+  return text.empty() ? slice::sha256_file(name) : slice::sha256_hex(text);
+}
+
+// An input file that does not exist is an OSError (FileNotFoundError), with the library's line.
+void check_input(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    const std::string line =
+        slice::Error(path.string(), "no such file",
+                     "check the path (relative to " + fs::current_path(ec).string() + ")")
+            .what();
+    PyErr_SetString(PyExc_FileNotFoundError, line.c_str());
+    throw py::error_already_set();
+  }
+}
+
+struct CutArgs {
+  std::string lp = "native";
+  int threads = 0;
+  std::int64_t max_blocks = 0;
+  bool certify = false;
+};
+
+slice::CutOptions cut_options(const CutArgs& a) {
+  if (a.threads < 0)
+    throw slice::Error("threads", "is " + std::to_string(a.threads),
+                       "give 0 (all cores) or a positive number");
+  if (a.max_blocks < 0)
+    throw slice::Error("max_blocks", "is " + std::to_string(a.max_blocks),
+                       "give 0 (the scene's [options] max_blocks) or a positive number");
+  slice::CutOptions opt;
+  opt.backend = slice::parse_lp_backend(a.lp);
+  opt.threads = a.threads;
+  opt.max_blocks = a.max_blocks;
+  opt.certify = a.certify;
+  return opt;
+}
+
+}  // namespace
+
+void bind_stages(py::module_& m) {
+  m.def(
+      "_joints",
+      [](const std::string& text, const fs::path& name, std::optional<std::uint64_t> seed,
+         const std::string& call, const py::object& progress) {
+        if (text.empty()) check_input(name);
+        slice::BlockSystem bs;
+        std::string sha;
+        run_interruptible(
+            [&](const slice::Progress&) {
+              bs.joints = generate(text, name, seed);
+              sha = input_sha256(text, name);
+            },
+            progress);
+        return make_model(std::move(bs), Stage::joints,
+                          python_provenance(call, name.string(), sha));
+      },
+      py::arg("text"), py::arg("name"), py::arg("seed"), py::arg("call"), py::arg("progress"));
+
+  m.def(
+      "_slice",
+      [](const std::string& text, const fs::path& name, std::optional<std::uint64_t> seed,
+         const CutArgs& args, bool prune, const std::string& call, const py::object& progress) {
+        if (text.empty()) check_input(name);
+        const slice::CutOptions opt = cut_options(args);
+        slice::BlockSystem bs;
+        std::string sha;
+        run_interruptible(
+            [&](const slice::Progress& p) {
+              const slice::JointSystem js = generate(text, name, seed);
+              sha = input_sha256(text, name);
+              bs = std::move(slice::cut_blocks(js, opt, p).blocks);
+              if (!prune) return;
+              // As slice-cut --prune: the cut's blocks are solids by construction.
+              slice::prune_blocks(bs, opt.backend, p, opt.certify, opt.threads, false);
+              slice::compute_geometry(bs, p, opt.threads);
+            },
+            progress);
+        const Stage stage = stage_of(bs);
+        return make_model(std::move(bs), stage, python_provenance(call, name.string(), sha));
+      },
+      py::arg("text"), py::arg("name"), py::arg("seed"), py::arg("cut"), py::arg("prune"),
+      py::arg("call"), py::arg("progress"));
+
+  py::class_<CutArgs>(m, "_CutArgs")
+      .def(py::init<>())
+      .def_readwrite("lp", &CutArgs::lp)
+      .def_readwrite("threads", &CutArgs::threads)
+      .def_readwrite("max_blocks", &CutArgs::max_blocks)
+      .def_readwrite("certify", &CutArgs::certify);
+
+  m.def(
+      "_cut",
+      [](const Model& model, const CutArgs& args, const std::string& call,
+         const py::object& progress) {
+        const slice::CutOptions opt = cut_options(args);
+        slice::BlockSystem bs;
+        run_interruptible(
+            [&](const slice::Progress& p) {
+              bs = std::move(slice::cut_blocks(model.bs->joints, opt, p).blocks);
+            },
+            progress);
+        slice::Provenance prov = model.provenance;
+        prov.command_line = call;
+        return make_model(std::move(bs), Stage::blocks, prov);
+      },
+      py::arg("model"), py::arg("cut"), py::arg("call"), py::arg("progress"));
+
+  m.def(
+      "_prune",
+      [](const Model& model, const CutArgs& args, const std::string& call,
+         const py::object& progress) {
+        if (model.stage == Stage::joints)
+          throw slice::Error("model", "has no blocks (a joints.h5)",
+                             "cut it first: rockslice.cut(model)");
+        const slice::CutOptions opt = cut_options(args);
+        slice::BlockSystem bs = *model.bs;
+        run_interruptible(
+            [&](const slice::Progress& p) {
+              slice::prune_blocks(bs, opt.backend, p, opt.certify, opt.threads);
+            },
+            progress);
+        slice::Provenance prov = model.provenance;
+        prov.command_line = call;
+        return make_model(std::move(bs), Stage::pruned, prov);
+      },
+      py::arg("model"), py::arg("cut"), py::arg("call"), py::arg("progress"));
+
+  m.def(
+      "_vertices",
+      [](const Model& model, const CutArgs& args, const std::string& call,
+         const py::object& progress) {
+        if (model.stage == Stage::joints)
+          throw slice::Error("model", "has no blocks (a joints.h5)",
+                             "cut it first: rockslice.cut(model)");
+        const slice::CutOptions opt = cut_options(args);
+        slice::BlockSystem bs = *model.bs;
+        run_interruptible(
+            [&](const slice::Progress& p) {
+              // As slice-vertices --prune: blocks not yet pruned are pruned first.
+              if (!bs.pruned) slice::prune_blocks(bs, opt.backend, p, opt.certify, opt.threads);
+              slice::compute_geometry(bs, p, opt.threads);
+            },
+            progress);
+        slice::Provenance prov = model.provenance;
+        prov.command_line = call;
+        return make_model(std::move(bs), Stage::geometry, prov);
+      },
+      py::arg("model"), py::arg("cut"), py::arg("call"), py::arg("progress"));
+
+  m.def(
+      "load",
+      [](const fs::path& path) {
+        check_input(path);
+        slice::BlockSystem bs;
+        slice::FileHeader header;
+        {
+          py::gil_scoped_release unlocked;
+          header = slice::read_header(path);
+          if (header.kind == slice::FileKind::joints)
+            bs.joints = slice::read_joints(path);
+          else
+            bs = slice::read_blocks(path);
+        }
+        const Stage stage = header.kind == slice::FileKind::joints ? Stage::joints : stage_of(bs);
+        return make_model(std::move(bs), stage, header.provenance);
+      },
+      py::arg("path"),
+      R"(The model in a joints.h5, blocks.h5 or geom.h5 file (a joints.h5 gives a model of stage
+'joints', without blocks). Raises FileNotFoundError for a missing file and rockslice.Error
+(a ValueError) with the tools' one-line message for a bad one.)");
+
+  m.def(
+      "_save",
+      [](const Model& model, const fs::path& path, bool compress) {
+        const slice::WriteOptions opt{compress};
+        try {
+          py::gil_scoped_release unlocked;
+          if (model.stage == Stage::joints)
+            slice::write_joints(path, model.bs->joints, model.provenance, opt);
+          else
+            slice::write_blocks(path, *model.bs, model.provenance, opt);
+        } catch (const slice::Error& e) {
+          // The file could not be written: an OSError, with the library's line.
+          PyErr_SetString(PyExc_OSError, e.what());
+          throw py::error_already_set();
+        }
+      },
+      py::arg("model"), py::arg("path"), py::arg("compress"));
+}
+
+}  // namespace rockslice
