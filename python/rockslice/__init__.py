@@ -16,7 +16,7 @@ rockslice.yade builds YADE bodies from a model inside yade.
 import os as _os
 
 from ._rockslice import (BOUNDARY, FIXED, REMOVED, Error, Model, __version__, _CutArgs,
-                         _cut, _joints, _prune, _save, _slice, _vertices, load)
+                         _cut, _joints, _prune, _save, _slice, _vertices, _with_joints, load)
 from . import _toml
 
 __all__ = ['slice', 'load', 'joints', 'cut', 'prune', 'vertices', 'Model', 'Error',
@@ -133,4 +133,22 @@ def _save_model(self, path, compress=False):
     _save(self, _os.fsdecode(path), bool(compress))
 
 
+def _with_joints_model(self, index):
+    """A model of stage 'joints' with only the joints `index` names, in that order: a boolean
+    mask over the joints or their indices (a permutation changes the order the cut
+    introduces them in). For changing the joints between rockslice.joints and rockslice.cut."""
+    import numpy as np
+    index = np.asarray(index)
+    if index.dtype == bool:
+        if index.shape != (self.joint_count,):
+            raise _error('index', 'a mask of %d values for %d joints' % (index.size,
+                                                                          self.joint_count),
+                         'give one value per joint')
+        index = np.flatnonzero(index)
+    elif index.size and index.dtype.kind not in 'iu':
+        raise _error('index', 'is of type %s' % index.dtype, 'give joint indices or a mask')
+    return _with_joints(self, index.astype(np.int64).ravel().tolist())
+
+
 Model.save = _save_model
+Model.with_joints = _with_joints_model

@@ -78,6 +78,7 @@ def build(model, steps=0, engines=True, initial_gap=_rockslice.YADE_INITIAL_GAP,
         'GRAVITY': opt['gravity'],
         'TIMESTEP_FACTOR': opt['timestep_factor'],
         'INITIAL_GAP': float(initial_gap),
+        'SHAPE': 'polyhedra',
         'SECTION': model.dimension == 2,
         'ENGINES': bool(engines),
     }

@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,6 +42,18 @@ template <class T, class E>
 py::array view_vector(const py::handle& owner, const std::vector<E>& v, std::size_t cols = 0) {
   static_assert(sizeof(E) == sizeof(T) * (sizeof(E) / sizeof(T)));
   return view(owner, reinterpret_cast<const T*>(v.data()), v.size(), sizeof(E), cols);
+}
+
+// A vector handed over to numpy without a copy (a capsule owns it); cols > 0: rows of cols.
+template <class T>
+py::array owned(std::vector<T>&& v, std::size_t cols = 0) {
+  auto held = std::make_unique<std::vector<T>>(std::move(v));
+  std::vector<py::ssize_t> shape{py::ssize_t(cols ? held->size() / cols : held->size())};
+  if (cols) shape.push_back(py::ssize_t(cols));
+  const T* data = held->data();
+  py::capsule owner(held.get(), [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  held.release();  // the capsule owns it now
+  return py::array_t<T>(shape, data, owner);
 }
 
 Model& self_of(const py::handle& h) { return h.cast<Model&>(); }
@@ -116,7 +129,7 @@ py::dict sets_of(const Model& m) {
   py::dict d;
   py::list names, intensity, kind;
   std::vector<double> dip, dipdir, spacing, offset, friction, cohesion, tension, p32, p10, kappa;
-  std::vector<std::int64_t> count, stream_seed;
+  std::vector<std::int64_t> count;
   for (const auto& s : sets) {
     names.append(s.name);
     intensity.append(slice::to_string(s.intensity));
@@ -136,17 +149,17 @@ py::dict sets_of(const Model& m) {
   d["name"] = names;
   d["kind"] = kind;
   d["intensity"] = intensity;
-  d["dip"] = py::array(py::cast(dip));
-  d["dip_direction"] = py::array(py::cast(dipdir));
-  d["spacing"] = py::array(py::cast(spacing));
-  d["offset"] = py::array(py::cast(offset));
-  d["friction_angle"] = py::array(py::cast(friction));
-  d["cohesion"] = py::array(py::cast(cohesion));
-  d["tension"] = py::array(py::cast(tension));
-  d["fisher_kappa"] = py::array(py::cast(kappa));
-  d["joint_count"] = py::array(py::cast(count));
-  d["achieved_p32"] = py::array(py::cast(p32));
-  d["achieved_p10"] = py::array(py::cast(p10));
+  d["dip"] = owned(std::move(dip));
+  d["dip_direction"] = owned(std::move(dipdir));
+  d["spacing"] = owned(std::move(spacing));
+  d["offset"] = owned(std::move(offset));
+  d["friction_angle"] = owned(std::move(friction));
+  d["cohesion"] = owned(std::move(cohesion));
+  d["tension"] = owned(std::move(tension));
+  d["fisher_kappa"] = owned(std::move(kappa));
+  d["joint_count"] = owned(std::move(count));
+  d["achieved_p32"] = owned(std::move(p32));
+  d["achieved_p10"] = owned(std::move(p10));
   return d;
 }
 
@@ -160,9 +173,7 @@ py::tuple polygons_of(const Model& m) {
       corners.insert(corners.end(), {x.x(), x.y(), x.z()});
     offset.push_back(std::int64_t(corners.size() / 3));
   }
-  py::array c(py::cast(corners));
-  return py::make_tuple(py::array(py::cast(offset)),
-                        c.reshape({py::ssize_t(corners.size() / 3), py::ssize_t(3)}));
+  return py::make_tuple(owned(std::move(offset)), owned(std::move(corners), 3));
 }
 
 // The rows of the exported YADE script's BLOCKS list (export_yade.hpp's rules: removed blocks
@@ -397,7 +408,7 @@ vertices). The names are those of the HDF5 datasets (docs/python.md).)");
         for (std::size_t b = 0; b < s.bs->blocks.size();
              first_face += s.bs->blocks[b++].faces.size())
           phi.push_back(slice::block_friction_deg(*s.bs, b, first_face, default_deg));
-        return py::array(py::cast(phi));
+        return owned(std::move(phi));
       },
       py::arg("default") = 30.0, "each block's friction angle by the YADE export's rule");
   c.def("_yade_rows", &yade_rows, py::arg("default_friction_deg"));

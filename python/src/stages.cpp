@@ -194,6 +194,27 @@ void bind_stages(py::module_& m) {
       py::arg("model"), py::arg("cut"), py::arg("call"), py::arg("progress"));
 
   m.def(
+      "_with_joints",
+      [](const Model& model, const std::vector<std::int64_t>& index) {
+        if (model.stage != Stage::joints)
+          throw slice::Error("model", std::string("is of stage '") + to_string(model.stage) + "'",
+                             "choose joints before the cut: on rockslice.joints(scene) or a "
+                             "joints.h5");
+        slice::BlockSystem bs;
+        bs.joints = model.bs->joints;
+        const auto& all = model.bs->joints.joints;
+        bs.joints.joints.clear();
+        for (const std::int64_t i : index) {
+          if (i < 0 || std::size_t(i) >= all.size())
+            throw slice::Error("index", "joint " + std::to_string(i) + " does not exist",
+                               "give joints from 0 to " + std::to_string(all.size() - 1));
+          bs.joints.joints.push_back(all[std::size_t(i)]);
+        }
+        return make_model(std::move(bs), Stage::joints, model.provenance);
+      },
+      py::arg("model"), py::arg("index"));
+
+  m.def(
       "load",
       [](const fs::path& path) {
         check_input(path);

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 TOOLS = os.environ.get('ROCKSLICE_TOOLS', '')
-SOURCE = os.environ.get('ROCKSLICE_SOURCE', os.path.join(os.path.dirname(__file__), '..', '..'))
+SOURCE = os.path.abspath(os.environ.get('ROCKSLICE_SOURCE',
+                                         os.path.join(os.path.dirname(__file__), '..', '..')))
 DATA = os.path.join(SOURCE, 'data')
 # Root attributes that say who made a file: the only ones the module's files may differ in.
 PROVENANCE = {'tool', 'tool_version', 'command_line', 'input', 'input_sha256'}

@@ -165,3 +165,21 @@ def test_joints_and_sets_as_arrays(tmp_path):
 def test_threads_give_the_same_blocks():
     scene = data('rock-slope.toml')
     same_blocks(rockslice.slice(scene, threads=1), rockslice.slice(scene, threads=2))
+
+
+def test_joints_changed_between_stages():
+    joints = rockslice.joints(data('cube-3sets.toml'))
+    # Without the horizontal set: 100 columns of 10 m.
+    columns = rockslice.vertices(rockslice.cut(joints.with_joints(joints.joint_set != 0)))
+    assert len(columns) == 100 and np.allclose(columns.volume, 10.0)
+    assert joints.joint_count == 27  # the input is as it was
+    # Indices, in another order: the same blocks, cut in another order.
+    order = np.argsort(-joints.joint_set, kind='stable')
+    reordered = joints.with_joints(order)
+    assert np.array_equal(reordered.joint_set, joints.joint_set[order])
+    blocks = rockslice.vertices(rockslice.cut(reordered))
+    assert len(blocks) == 1000 and np.allclose(np.sort(blocks.volume), 1.0)
+    with pytest.raises(rockslice.Error, match='joint 27 does not exist'):
+        joints.with_joints([0, 27])
+    with pytest.raises(rockslice.Error, match="stage 'blocks'"):
+        rockslice.cut(joints).with_joints([0])

@@ -68,96 +68,13 @@ const char* kHeader = R"(# Rules (rockslice README, "YADE models"):
 #  - gravity along -z; STEPS > 0 runs that many steps of the settling run at the end.
 )";
 
-// The Polyhedra script's program after BLOCKS: bodies, clumps, engines and the run. The text is
-// python/rockslice/yade_program.py, embedded by the build (libslice/CMakeLists.txt), which the
-// Python module's rockslice.yade.build() runs in YADE on a model in memory: one set of rules.
-constexpr const char* kPolyhedraProgram =
+// The script's program after BLOCKS, for both shapes: bodies, clumps, engines and the run. The
+// text is python/rockslice/yade_program.py, embedded by the build (libslice/CMakeLists.txt),
+// which the Python module's rockslice.yade.build() runs in YADE on a model in memory: one set
+// of rules.
+constexpr const char* kYadeProgram =
 #include "yade_program.inc"
     ;
-
-// The PotentialBlock script's program after BLOCKS (3-D only).
-void write_potential_blocks_program(std::ostream& s) {
-  s << R"(body_of_block = {}
-started = time.time()
-def progress(what):
-    print('rockslice: %s (%.0f s)' % (what, time.time() - started), flush=True)
-progress('building %d bodies' % len(BLOCKS))
-for i, (block, fixed, phi, cluster, volume, inradius, radius, centroid, planes) in enumerate(BLOCKS):
-    mat = FrictMat(young=-1, poisson=-1, frictionAngle=math.radians(phi), density=DENSITY,
-                   label='block-%d' % block)
-    O.materials.append(mat)
-    r = PB_ROUNDING * inradius
-    grey = 0.35 if fixed else 0.75
-    body = potential_utils.potentialblock(
-        mat, a=[p[0] for p in planes], b=[p[1] for p in planes], c=[p[2] for p in planes],
-        d=[p[3] - r for p in planes], r=r, R=radius, isBoundary=bool(fixed), fixed=bool(fixed),
-        color=[grey, grey, grey])
-    body.state.pos = Vector3(centroid) + body.shape.position
-    body_of_block[block] = O.bodies.append(body)
-    if (i + 1) % max(1, len(BLOCKS) // 10) == 0:
-        progress('%d of %d bodies' % (i + 1, len(BLOCKS)))
-
-# Clusters become clumps; a clump with a fixed (boundary) member is fixed as a whole.
-members_of_cluster = {}
-fixed_cluster = set()
-for row in BLOCKS:
-    block, fixed, cluster = row[0], row[1], row[3]
-    if cluster >= 0:
-        members_of_cluster.setdefault(cluster, []).append(body_of_block[block])
-        if fixed:
-            fixed_cluster.add(cluster)
-clump_of_cluster = {}
-for cluster in sorted(members_of_cluster):
-    members = members_of_cluster[cluster]
-    if len(members) < 2:
-        continue
-    clump = O.bodies.clump(members)
-    if cluster in fixed_cluster:
-        O.bodies[clump].state.blockedDOFs = 'xyzXYZ'
-    clump_of_cluster[cluster] = clump
-progress('%d clumps' % len(clump_of_cluster))
-
-# The volume of each rigid body: a clump moves as one; fixed bodies never move and set no time
-# step: the smallest body that moves does (as in the Polyhedra script).
-volume_of_body = {}
-fixed_body = set()
-for row in BLOCKS:
-    body = ('clump', row[3]) if row[3] in clump_of_cluster else ('block', row[0])
-    volume_of_body[body] = volume_of_body.get(body, 0.0) + row[4]
-    if row[1]:
-        fixed_body.add(body)
-moving = [v for body, v in volume_of_body.items() if body not in fixed_body]
-smallest = min(moving) if moving else 1.0
-
-O.engines = [
-    ForceResetter(),
-    InsertionSortCollider([PotentialBlock2AABB()],
-                          verletDist=0.01 * smallest ** (1.0 / 3)),
-    InteractionLoop(
-        [Ig2_PB_PB_ScGeom(twoDimension=False, calContactArea=True)],
-        [Ip2_FrictMat_FrictMat_KnKsPBPhys(kn_i=YOUNG, ks_i=POISSON * YOUNG, Knormal=YOUNG,
-                                          Kshear=POISSON * YOUNG, useFaceProperties=False,
-                                          viscousDamping=DAMPING)],
-        [Law2_SCG_KnKsPBPhys_KnKsPBLaw(label='law', neverErase=False)],
-    ),
-    NewtonIntegrator(damping=DAMPING, exactAsphericalRot=True, gravity=(0, 0, -GRAVITY),
-                     label='newton'),
-]
-# Critical time step of the lightest block on its contact stiffness: m = DENSITY V against
-# k = YOUNG V^(2/3) (a contact as large as a face), dt = sqrt(m / k).
-O.dt = TIMESTEP_FACTOR * math.sqrt(DENSITY * smallest ** (1.0 / 3) / YOUNG)
-)";
-  s << R"py(
-if STEPS > 0:
-    # Step progress: 20 lines over the run.
-    O.engines = O.engines + [PyRunner(iterPeriod=max(1, STEPS // 20), command=(
-        "print('rockslice: step %d of " + str(STEPS) + " (%.0f s)' % (O.iter + 1, time.time() - "
-        + repr(time.time()) + "), flush=True)"))]
-    progress('running %d steps, dt = %.3g s' % (STEPS, O.dt))
-    O.run(STEPS, True)
-    progress('done')
-)py";
-}
 
 }  // namespace
 
@@ -288,12 +205,12 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
       << "DAMPING = " << num(opt.damping) << "\n"
       << "GRAVITY = " << num(opt.gravity) << "  # m/s2, along -z\n"
       << "TIMESTEP_FACTOR = " << num(opt.timestep_factor) << "\n";
-    if (!pb)
-      s << "INITIAL_GAP = " << num(kYadeInitialGap) << "  # relative: see SHRINK below\n"
-        << "SECTION = " << (section ? "True" : "False")
-        << "  # a 2-D section: bodies move in (x, z)\n"
-        << "ENGINES = True  # set O.engines and O.dt\n";
-    if (pb) s << "PB_ROUNDING = " << num(opt.pb_rounding) << "\n";
+    s << (pb ? "PB_ROUNDING = " + num(opt.pb_rounding) + "\n"
+             : "INITIAL_GAP = " + num(kYadeInitialGap) + "  # relative: see SHRINK below\n")
+      << "SHAPE = '" << (pb ? "potential_blocks" : "polyhedra") << "'\n"
+      << "SECTION = " << (section ? "True" : "False")
+      << "  # a 2-D section: bodies move in (x, z) only\n"
+      << "ENGINES = True  # set O.engines and O.dt\n";
     s << "\n";
 
     if (!pb) {
@@ -336,10 +253,7 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
       s << "]\n\n";
     }
 
-    if (pb)
-      write_potential_blocks_program(s);
-    else
-      s << kPolyhedraProgram;
+    s << kYadeProgram;
     s.flush();
     if (!s)
       throw Error(out.string(), "cannot write " + part.path().filename().string() + system_reason(),
