@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -134,64 +135,42 @@ void bind_stages(py::module_& m) {
       .def_readwrite("max_blocks", &CutArgs::max_blocks)
       .def_readwrite("certify", &CutArgs::certify);
 
-  m.def(
-      "_cut",
-      [](const Model& model, const CutArgs& args, const std::string& call,
-         const py::object& progress) {
-        const slice::CutOptions opt = cut_options(args);
-        slice::BlockSystem bs;
-        run_interruptible(
-            [&](const slice::Progress& p) {
-              bs = std::move(slice::cut_blocks(model.bs->joints, opt, p).blocks);
-            },
-            progress);
-        slice::Provenance prov = model.provenance;
-        prov.command_line = call;
-        return make_model(std::move(bs), Stage::blocks, prov);
-      },
-      py::arg("model"), py::arg("cut"), py::arg("call"), py::arg("progress"));
-
-  m.def(
-      "_prune",
-      [](const Model& model, const CutArgs& args, const std::string& call,
-         const py::object& progress) {
-        if (model.stage == Stage::joints)
-          throw slice::Error("model", "has no blocks (a joints.h5)",
-                             "cut it first: rockslice.cut(model)");
-        const slice::CutOptions opt = cut_options(args);
-        slice::BlockSystem bs = *model.bs;
-        run_interruptible(
-            [&](const slice::Progress& p) {
-              slice::prune_blocks(bs, opt.backend, p, opt.certify, opt.threads);
-            },
-            progress);
-        slice::Provenance prov = model.provenance;
-        prov.command_line = call;
-        return make_model(std::move(bs), Stage::pruned, prov);
-      },
-      py::arg("model"), py::arg("cut"), py::arg("call"), py::arg("progress"));
-
-  m.def(
-      "_vertices",
-      [](const Model& model, const CutArgs& args, const std::string& call,
-         const py::object& progress) {
-        if (model.stage == Stage::joints)
-          throw slice::Error("model", "has no blocks (a joints.h5)",
-                             "cut it first: rockslice.cut(model)");
-        const slice::CutOptions opt = cut_options(args);
-        slice::BlockSystem bs = *model.bs;
-        run_interruptible(
-            [&](const slice::Progress& p) {
+  // The stages after the joints: `work` makes the new model's blocks, from a copy of the
+  // model's (the model stays as it was) or, for the cut, from nothing.
+  using Work = std::function<void(slice::BlockSystem&, const slice::CutOptions&, const Model&,
+                                  const slice::Progress&)>;
+  const auto def_stage = [&m](const char* name, Stage made, Work work) {
+    m.def(
+        name,
+        [made, work](const Model& model, const CutArgs& args, const std::string& call,
+                     const py::object& progress) {
+          const slice::CutOptions opt = cut_options(args);
+          slice::BlockSystem bs;
+          if (made != Stage::blocks) {
+            if (model.stage == Stage::joints)
+              throw slice::Error("model", "has no blocks (a joints.h5)",
+                                 "cut it first: rockslice.cut(model)");
+            bs = *model.bs;
+          }
+          run_interruptible([&](const slice::Progress& p) { work(bs, opt, model, p); }, progress);
+          slice::Provenance prov = model.provenance;
+          prov.command_line = call;
+          return make_model(std::move(bs), made, prov);
+        },
+        py::arg("model"), py::arg("cut"), py::arg("call"), py::arg("progress"));
+  };
+  def_stage("_cut", Stage::blocks, [](auto& bs, const auto& opt, const auto& model, const auto& p) {
+    bs = std::move(slice::cut_blocks(model.bs->joints, opt, p).blocks);
+  });
+  def_stage("_prune", Stage::pruned, [](auto& bs, const auto& opt, const auto&, const auto& p) {
+    slice::prune_blocks(bs, opt.backend, p, opt.certify, opt.threads);
+  });
+  def_stage("_vertices", Stage::geometry,
+            [](auto& bs, const auto& opt, const auto&, const auto& p) {
               // As slice-vertices --prune: blocks not yet pruned are pruned first.
               if (!bs.pruned) slice::prune_blocks(bs, opt.backend, p, opt.certify, opt.threads);
               slice::compute_geometry(bs, p, opt.threads);
-            },
-            progress);
-        slice::Provenance prov = model.provenance;
-        prov.command_line = call;
-        return make_model(std::move(bs), Stage::geometry, prov);
-      },
-      py::arg("model"), py::arg("cut"), py::arg("call"), py::arg("progress"));
+            });
 
   m.def(
       "_with_joints",
