@@ -127,10 +127,17 @@ def vertices(model, threads=0, lp='native', progress=None):
     return _vertices(model, _cut_args(lp, threads), _call('vertices'), progress)
 
 
-def _save_model(self, path, compress=False):
+def _save_model(self, path, compress=False, provenance=None):
     """Writes the file the tools would write for this model (joints.h5, blocks.h5 or geom.h5):
-    the same bytes, but for the provenance attributes. Atomic, as the tools' outputs."""
-    _save(self, _os.fsdecode(path), bool(compress))
+    the same bytes, but for the provenance attributes (model.provenance; `provenance`, a dict
+    with some of its keys, replaces those). compress: as the tools' --compress. Atomic, as
+    the tools' outputs: a failure raises OSError and leaves an existing file as it was."""
+    given = dict(provenance or {})
+    unknown = sorted(set(given) - set(self.provenance))
+    if unknown:
+        raise _error('provenance', 'unknown keys %s' % ', '.join(unknown),
+                     'give some of %s' % ', '.join(sorted(self.provenance)))
+    _save(self, _os.fsdecode(path), bool(compress), given)
 
 
 def _with_joints_model(self, index):

@@ -217,21 +217,31 @@ void bind_stages(py::module_& m) {
 
   m.def(
       "_save",
-      [](const Model& model, const fs::path& path, bool compress) {
+      [](const Model& model, const fs::path& path, bool compress, const py::dict& given) {
         const slice::WriteOptions opt{compress};
+        // The provenance recorded, the model's unless the caller gives some of its fields.
+        slice::Provenance prov = model.provenance;
+        const std::pair<const char*, std::string*> fields[] = {
+            {"tool", &prov.tool},
+            {"version", &prov.version},
+            {"command_line", &prov.command_line},
+            {"input", &prov.input},
+            {"input_sha256", &prov.input_sha256}};
+        for (const auto& [name, field] : fields)
+          if (given.contains(name)) *field = given[name].cast<std::string>();
         try {
           py::gil_scoped_release unlocked;
           if (model.stage == Stage::joints)
-            slice::write_joints(path, model.bs->joints, model.provenance, opt);
+            slice::write_joints(path, model.bs->joints, prov, opt);
           else
-            slice::write_blocks(path, *model.bs, model.provenance, opt);
+            slice::write_blocks(path, *model.bs, prov, opt);
         } catch (const slice::Error& e) {
           // The file could not be written: an OSError, with the library's line.
           PyErr_SetString(PyExc_OSError, e.what());
           throw py::error_already_set();
         }
       },
-      py::arg("model"), py::arg("path"), py::arg("compress"));
+      py::arg("model"), py::arg("path"), py::arg("compress"), py::arg("provenance"));
 }
 
 }  // namespace rockslice

@@ -42,6 +42,10 @@ def test_slice_equals_the_tools(scene, tmp_path):
     mine = tmp_path / 'mine-geom.h5'
     model.save(mine)
     assert_same_h5(mine, g)
+    # With the tool's provenance, the same bytes.
+    same = tmp_path / 'same-geom.h5'
+    model.save(same, provenance=tools.provenance)
+    assert same.read_bytes() == open(g, 'rb').read()
     p = provenance(mine)
     assert p['tool'] == 'rockslice (Python)'
     assert p['input'] == data(scene)
@@ -55,12 +59,20 @@ def test_the_stages_write_the_tools_files(tmp_path):
     assert joints.stage == 'joints' and len(joints) == 0 and joints.seed == 7
     joints.save(tmp_path / 'j.h5')
     assert_same_h5(tmp_path / 'j.h5', j)
+    joints.save(tmp_path / 'j2.h5', provenance=rockslice.load(j).provenance)
+    assert (tmp_path / 'j2.h5').read_bytes() == open(j, 'rb').read()
     cut = rockslice.cut(joints)
     assert cut.stage == 'blocks' and not cut.pruned
     pruned = rockslice.prune(cut)
     assert pruned.stage == 'pruned'
     pruned.save(tmp_path / 'b.h5')
     assert_same_h5(tmp_path / 'b.h5', b)
+    pruned.save(tmp_path / 'b2.h5', provenance=rockslice.load(b).provenance)
+    assert (tmp_path / 'b2.h5').read_bytes() == open(b, 'rb').read()
+    # --compress: the same datasets, deflated as the tools deflate them.
+    run_tool('slice-cut', j, '--prune', '--compress', '-o', tmp_path / 'bz.h5', '-q')
+    pruned.save(tmp_path / 'bz2.h5', compress=True)
+    assert_same_h5(tmp_path / 'bz2.h5', tmp_path / 'bz.h5')
     geom = rockslice.vertices(pruned)
     geom.save(tmp_path / 'g.h5')
     assert_same_h5(tmp_path / 'g.h5', g)
