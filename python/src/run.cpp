@@ -65,9 +65,9 @@ void run_interruptible(const std::function<void(const slice::Progress&)>& work,
     sh.done = true;
     sh.done_cv.notify_all();
   });
-  // What this thread raises in Python once the work has stopped: Ctrl-C's KeyboardInterrupt or
-  // the callback's exception.
-  std::optional<py::error_already_set> raised;
+  // What this thread raises once the work has stopped: Ctrl-C's KeyboardInterrupt, or whatever
+  // the callback raised (the worker must be joined before anything leaves this function).
+  std::exception_ptr raised;
   const auto hand_over = [&](bool last) {
     std::string stage;
     std::size_t n = 0, total = 0;
@@ -92,8 +92,8 @@ void run_interruptible(const std::function<void(const slice::Progress&)>& work,
     try {
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
       hand_over(false);
-    } catch (py::error_already_set& e) {
-      raised.emplace(std::move(e));
+    } catch (...) {
+      raised = std::current_exception();
       const std::lock_guard lock(sh.mutex);
       sh.stop = true;
     }
@@ -102,7 +102,7 @@ void run_interruptible(const std::function<void(const slice::Progress&)>& work,
     py::gil_scoped_release unlocked;
     worker.join();
   }
-  if (raised) throw std::move(*raised);
+  if (raised) std::rethrow_exception(raised);
   if (failure) std::rethrow_exception(failure);
   hand_over(true);  // the last report, if the callback has not had it
 }
