@@ -30,6 +30,10 @@ namespace slice {
 
 enum class YadeShape { polyhedra, potential_blocks };
 
+/// YADE Polyhedra bodies are their blocks scaled by 1 - kYadeInitialGap about the centroid, so
+/// that faces that touch open a little (the script's comment before SHRINK says why).
+inline constexpr double kYadeInitialGap = 1e-6;
+
 struct YadeOptions {
   YadeShape shape = YadeShape::polyhedra;
   long steps = 0;                    // 0: build the model only; N: run N steps at the end

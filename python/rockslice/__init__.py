@@ -1,0 +1,161 @@
+"""rockslice in Python: slice rock masses into convex blocks in-process (docs/python.md).
+
+    import rockslice
+    model = rockslice.slice('data/rock-slope.toml')      # joints -> cut -> prune -> vertices
+    model.volume                                          # numpy, one entry per block
+    model.save('geom.h5')                                 # the file slice-vertices writes
+
+rockslice.slice(scene, seed=None, lp='native', threads=0, prune=True) runs the whole chain;
+rockslice.load(path) reads a joints.h5, blocks.h5 or geom.h5. The stages one by one:
+joints(scene), cut(model), prune(model), vertices(model). A scene is a TOML file's path or a
+dict with the same tables and keys. Bad input raises rockslice.Error (a ValueError) with the
+line the tools print; a missing file raises FileNotFoundError; a file that cannot be written
+OSError. The work runs off the interpreter's lock; Ctrl-C stops it (KeyboardInterrupt).
+rockslice.yade builds YADE bodies from a model inside yade.
+"""
+import os as _os
+
+from ._rockslice import (BOUNDARY, FIXED, REMOVED, Error, Model, __version__, _CutArgs,
+                         _cut, _joints, _prune, _save, _slice, _vertices, _with_joints, load)
+from . import _toml
+
+__all__ = ['slice', 'load', 'joints', 'cut', 'prune', 'vertices', 'Model', 'Error',
+           'BOUNDARY', 'REMOVED', 'FIXED', '__version__']
+
+_MAX_SEED = 2 ** 63 - 1
+# The name a dict scene stands under in messages before they are rewritten to name its key.
+_DICT_NAME = 'scene'
+
+
+def _error(where, problem, fix):
+    """rockslice.Error as the library makes it: "<where>: <problem>; <fix>", and its parts."""
+    e = Error(('%s: %s' % (where, problem) + ('; ' + fix if fix else '')).replace('\n', '\\n'))
+    e.where, e.problem, e.fix = where, problem, fix
+    return e
+
+
+def _seed(seed):
+    if seed is None:
+        return None
+    fix = 'give an integer from 0 to %d (2^63 - 1), as [scene] seed' % _MAX_SEED
+    if isinstance(seed, bool) or not hasattr(seed, '__index__'):
+        raise _error('seed', '%r is not an integer' % (seed,), fix)
+    seed = seed.__index__()
+    if not 0 <= seed <= _MAX_SEED:
+        raise _error('seed', '%d is out of range' % seed, fix)
+    return seed
+
+
+def _scene(scene):
+    """(text, name, lines): a TOML file (text '' and its path) or a dict (its TOML text)."""
+    if isinstance(scene, dict):
+        text, lines = _toml.dump(scene)
+        return text, _DICT_NAME, lines
+    if isinstance(scene, (str, bytes, _os.PathLike)):
+        return '', _os.fsdecode(scene), None
+    raise TypeError('a scene is a TOML file name or a dict, not %s' % type(scene).__name__)
+
+
+def _dict_error(e, lines):
+    """The parser's error on a dict scene's TOML text, naming the dict's key for the line."""
+    where = getattr(e, 'where', '')
+    head, _, line = where.rpartition(':')
+    if lines is None or head != _DICT_NAME or not line.isdigit():
+        return e
+    n = int(line)
+    key = lines[n - 1] if 1 <= n <= len(lines) else 'scene'
+    return _error(key, e.problem, e.fix)
+
+
+def _call(name, *args, **kwargs):
+    """The call as the provenance's command line records it."""
+    parts = [repr(a) if not isinstance(a, dict) else '<dict>' for a in args]
+    parts += ['%s=%r' % kv for kv in kwargs.items() if kv[1] is not None]
+    return 'rockslice.%s(%s)' % (name, ', '.join(parts))
+
+
+def _cut_args(lp, threads, max_blocks=0, certify=False):
+    a = _CutArgs()
+    if not isinstance(lp, str):
+        raise _error('lp', '%r is not a backend' % (lp,), 'give "native", "ipopt" or "exact"')
+    a.lp, a.threads, a.max_blocks, a.certify = lp, int(threads), int(max_blocks), bool(certify)
+    return a
+
+
+def joints(scene, seed=None, progress=None):
+    """The joints of a scene (slice-joints): a Model of stage 'joints'. `seed` replaces the
+    scene's [scene] seed, as slice-joints --seed does."""
+    text, name, lines = _scene(scene)
+    try:
+        return _joints(text, name, _seed(seed), _call('joints', scene, seed=seed), progress)
+    except Error as e:
+        raise _dict_error(e, lines) from None
+
+
+def slice(scene, seed=None, lp='native', threads=0, prune=True, progress=None,
+          max_blocks=0, certify=False):
+    """Runs joints -> cut -> prune -> vertices in-process and returns the Model.
+
+    scene: a TOML scene's path or a dict with the same tables and keys; seed: replaces [scene]
+    seed; lp: 'native', 'ipopt' or 'exact'; threads: 0 for all cores (the result is the same for
+    every count); prune=False stops after the cut (the blocks slice-cut writes without
+    --prune; their volumes are computed when asked for). progress(stage, done, total) is
+    called on this thread, at most 20 times a second, with the latest report.
+    """
+    text, name, lines = _scene(scene)
+    try:
+        return _slice(text, name, _seed(seed), _cut_args(lp, threads, max_blocks, certify),
+                      bool(prune), _call('slice', scene, seed=seed, lp=lp, prune=prune),
+                      progress)
+    except Error as e:
+        raise _dict_error(e, lines) from None
+
+
+def cut(model, lp='native', threads=0, max_blocks=0, certify=False, progress=None):
+    """The blocks the joints of `model` make (slice-cut without --prune): a new Model."""
+    return _cut(model, _cut_args(lp, threads, max_blocks, certify), _call('cut', lp=lp), progress)
+
+
+def prune(model, lp='native', threads=0, certify=False, progress=None):
+    """The model's blocks without their redundant faces (slice-prune): a new Model."""
+    return _prune(model, _cut_args(lp, threads, 0, certify), _call('prune', lp=lp), progress)
+
+
+def vertices(model, threads=0, lp='native', progress=None):
+    """The model with the blocks' vertices, face loops and mass properties (slice-vertices,
+    which prunes first if the blocks are not): a new Model."""
+    return _vertices(model, _cut_args(lp, threads), _call('vertices'), progress)
+
+
+def _save_model(self, path, compress=False, provenance=None):
+    """Writes the file the tools would write for this model (joints.h5, blocks.h5 or geom.h5):
+    the same bytes, but for the provenance attributes (model.provenance; `provenance`, a dict
+    with some of its keys, replaces those). compress: as the tools' --compress. Atomic, as
+    the tools' outputs: a failure raises OSError and leaves an existing file as it was."""
+    given = dict(provenance or {})
+    unknown = sorted(set(given) - set(self.provenance))
+    if unknown:
+        raise _error('provenance', 'unknown keys %s' % ', '.join(unknown),
+                     'give some of %s' % ', '.join(sorted(self.provenance)))
+    _save(self, _os.fsdecode(path), bool(compress), given)
+
+
+def _with_joints_model(self, index):
+    """A model of stage 'joints' with only the joints `index` names, in that order: a boolean
+    mask over the joints or their indices (a permutation changes the order the cut
+    introduces them in). For changing the joints between rockslice.joints and rockslice.cut."""
+    import numpy as np
+    index = np.asarray(index)
+    if index.dtype == bool:
+        if index.shape != (self.joint_count,):
+            raise _error('index', 'a mask of %d values for %d joints' % (index.size,
+                                                                          self.joint_count),
+                         'give one value per joint')
+        index = np.flatnonzero(index)
+    elif index.size and index.dtype.kind not in 'iu':
+        raise _error('index', 'is of type %s' % index.dtype, 'give joint indices or a mask')
+    return _with_joints(self, index.astype(np.int64).ravel().tolist())
+
+
+Model.save = _save_model
+Model.with_joints = _with_joints_model

@@ -1,0 +1,417 @@
+// rockslice.Model: a joint or block system in memory, its data as numpy arrays. Arrays of one
+// field of a struct array (a block's flags, a joint's normal) and of /geometry are views of the
+// model's memory, read-only, that keep the model alive; arrays the library does not store
+// contiguously (the faces, the joints' polygons) are made once and kept.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "rockslice.hpp"
+#include "slice/cut.hpp"
+#include "slice/error.hpp"
+#include "slice/export_yade.hpp"
+#include "slice/vertices.hpp"
+
+namespace rockslice {
+namespace {
+
+// A read-only array over `rows` elements of `row_bytes` bytes each, starting at `first` (one
+// field of the first row), of `cols` values of T per row (0: a 1-D array); `owner` keeps the
+// memory alive.
+template <class T>
+py::array view(const py::handle& owner, const T* first, std::size_t rows, std::size_t row_bytes,
+               std::size_t cols = 0) {
+  std::vector<py::ssize_t> shape{py::ssize_t(rows)}, strides{py::ssize_t(row_bytes)};
+  if (cols) {
+    shape.push_back(py::ssize_t(cols));
+    strides.push_back(sizeof(T));
+  }
+  static const T none{};
+  py::array a(py::dtype::of<T>(), shape, strides, rows ? first : &none, owner);
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+// A whole vector as a read-only array (cols > 0: each element is cols values of T).
+template <class T, class E>
+py::array view_vector(const py::handle& owner, const std::vector<E>& v, std::size_t cols = 0) {
+  static_assert(sizeof(E) == sizeof(T) * (sizeof(E) / sizeof(T)));
+  return view(owner, reinterpret_cast<const T*>(v.data()), v.size(), sizeof(E), cols);
+}
+
+// A vector handed over to numpy without a copy (a capsule owns it); cols > 0: rows of cols.
+template <class T>
+py::array owned(std::vector<T>&& v, std::size_t cols = 0) {
+  auto held = std::make_unique<std::vector<T>>(std::move(v));
+  std::vector<py::ssize_t> shape{py::ssize_t(cols ? held->size() / cols : held->size())};
+  if (cols) shape.push_back(py::ssize_t(cols));
+  const T* data = held->data();
+  py::capsule owner(held.get(), [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  held.release();  // the capsule owns it now
+  return py::array_t<T>(shape, data, owner);
+}
+
+Model& self_of(const py::handle& h) { return h.cast<Model&>(); }
+
+void require_blocks(const Model& m, const char* what) {
+  if (m.stage == Stage::joints)
+    throw slice::Error("model", std::string("has no blocks (a joints.h5) for ") + what,
+                       "cut it first: rockslice.cut(model), or rockslice.slice(scene)");
+}
+
+// The model's /geometry, or one computed from a pruned copy of its blocks (Model::derived).
+// `per_face`: the caller needs the per-face or per-vertex arrays, which only a pruned model's
+// geometry has in the model's face order.
+const slice::Geometry& geometry_of(const py::handle& h, bool per_face, const char* what) {
+  Model& m = self_of(h);
+  require_blocks(m, what);
+  if (m.bs->geometry) return *m.bs->geometry;
+  if (per_face && m.stage == Stage::blocks)
+    throw slice::Error(
+        "model",
+        std::string("its blocks are not pruned: ") + what + " follow the faces of pruned blocks",
+        "prune them first: rockslice.prune(model), or rockslice.vertices(model)");
+  if (!m.derived) {
+    auto copy = std::make_shared<slice::BlockSystem>(*m.bs);
+    const bool pruned = m.stage != Stage::blocks;
+    run_interruptible(
+        [&](const slice::Progress& p) {
+          if (!pruned) slice::prune_blocks(*copy, slice::kDefaultLpBackend, p);
+          slice::compute_geometry(*copy, p);
+        },
+        py::none());
+    if (!m.derived) m.derived = std::shared_ptr<const slice::Geometry>(copy, &*copy->geometry);
+  }
+  return *m.derived;
+}
+
+void make_faces(Model& m) {
+  if (m.face_offset) return;
+  auto planes = std::make_shared<std::vector<double>>();
+  auto joint = std::make_shared<std::vector<std::int64_t>>();
+  auto offset = std::make_shared<std::vector<std::int64_t>>(1, 0);
+  for (const slice::Block& b : m.bs->blocks) {
+    for (const slice::Face& f : b.faces) {
+      planes->insert(planes->end(), {f.normal.x(), f.normal.y(), f.normal.z(), f.d});
+      joint->push_back(f.joint);
+    }
+    offset->push_back(std::int64_t(joint->size()));
+  }
+  m.face_planes = std::move(planes);
+  m.face_joint = std::move(joint);
+  m.face_offset = std::move(offset);
+}
+
+// Per-block fields, views of the blocks' struct array.
+template <class T>
+py::array block_field(const py::handle& h, T slice::Block::*field, std::size_t cols = 0) {
+  const auto& blocks = self_of(h).bs->blocks;
+  const T* first = blocks.empty() ? nullptr : &(blocks.front().*field);
+  return view(h, first, blocks.size(), sizeof(slice::Block), cols);
+}
+
+template <class T>
+py::array joint_field(const py::handle& h, const T* (*field)(const slice::Joint&),
+                      std::size_t cols = 0) {
+  const auto& joints = self_of(h).bs->joints.joints;
+  return view(h, joints.empty() ? nullptr : field(joints.front()), joints.size(),
+              sizeof(slice::Joint), cols);
+}
+
+// The joint sets ([[sets]] entries) as columns.
+py::dict sets_of(const Model& m) {
+  const auto& sets = m.bs->joints.sets;
+  py::dict d;
+  py::list names, intensity, kind;
+  std::vector<double> dip, dipdir, spacing, offset, friction, cohesion, tension, p32, p10, kappa;
+  std::vector<std::int64_t> count;
+  for (const auto& s : sets) {
+    names.append(s.name);
+    intensity.append(slice::to_string(s.intensity));
+    kind.append(slice::to_string(s.kind));
+    dip.push_back(s.dip_deg);
+    dipdir.push_back(s.dip_direction_deg);
+    spacing.push_back(s.spacing);
+    offset.push_back(s.offset);
+    friction.push_back(s.friction_angle_deg);
+    cohesion.push_back(s.cohesion);
+    tension.push_back(s.tension);
+    kappa.push_back(s.fisher_kappa);
+    p32.push_back(s.achieved_p32);
+    p10.push_back(s.achieved_p10);
+    count.push_back(s.joint_count);
+  }
+  d["name"] = names;
+  d["kind"] = kind;
+  d["intensity"] = intensity;
+  d["dip"] = owned(std::move(dip));
+  d["dip_direction"] = owned(std::move(dipdir));
+  d["spacing"] = owned(std::move(spacing));
+  d["offset"] = owned(std::move(offset));
+  d["friction_angle"] = owned(std::move(friction));
+  d["cohesion"] = owned(std::move(cohesion));
+  d["tension"] = owned(std::move(tension));
+  d["fisher_kappa"] = owned(std::move(kappa));
+  d["joint_count"] = owned(std::move(count));
+  d["achieved_p32"] = owned(std::move(p32));
+  d["achieved_p10"] = owned(std::move(p10));
+  return d;
+}
+
+// The joints' polygons as one array: joint j's corners are rows [offset[j], offset[j + 1]) of
+// the (P, 3) global corners (none for a persistent joint).
+py::tuple polygons_of(const Model& m) {
+  std::vector<double> corners;
+  std::vector<std::int64_t> offset{0};
+  for (const auto& j : m.bs->joints.joints) {
+    for (const slice::Vec3& x : slice::joint_polygon(j))
+      corners.insert(corners.end(), {x.x(), x.y(), x.z()});
+    offset.push_back(std::int64_t(corners.size() / 3));
+  }
+  return py::make_tuple(owned(std::move(offset)), owned(std::move(corners), 3));
+}
+
+// The rows of the exported YADE script's BLOCKS list (export_yade.hpp's rules: removed blocks
+// left out, fixed by slice::is_fixed, friction by slice::block_friction_deg), for
+// rockslice.yade: (block, fixed, friction [deg], cluster, volume, centroid, vertices); a
+// section's polygon becomes its unit-thickness prism, as in the script.
+py::list yade_rows(const Model& m, double default_friction_deg) {
+  if (!m.bs->geometry)
+    throw slice::Error("model", "has no vertices (no /geometry)",
+                       "compute them first: rockslice.vertices(model)");
+  const slice::BlockSystem& bs = *m.bs;
+  const slice::Geometry& g = *bs.geometry;
+  const bool section = bs.joints.dimension == 2;
+  py::list rows;
+  std::size_t first_face = 0;
+  for (std::size_t b = 0; b < bs.blocks.size(); first_face += bs.blocks[b++].faces.size()) {
+    const slice::Block& blk = bs.blocks[b];
+    if (blk.flags & slice::kRemoved) continue;
+    py::list vertices;
+    for (const double y : section ? std::vector<double>{-0.5, 0.5} : std::vector<double>{0})
+      for (auto v = g.vertex_offset[b]; v < g.vertex_offset[b + 1]; ++v) {
+        const slice::Vec3& x = g.vertices[std::size_t(v)];
+        vertices.append(py::make_tuple(x.x(), x.y() + y, x.z()));
+      }
+    const slice::Vec3& c = g.centroid[b];
+    rows.append(py::make_tuple(b, slice::is_fixed(blk) ? 1 : 0,
+                               slice::block_friction_deg(bs, b, first_face, default_friction_deg),
+                               blk.cluster, g.volume[b], py::make_tuple(c.x(), c.y(), c.z()),
+                               py::tuple(vertices)));
+  }
+  return rows;
+}
+
+}  // namespace
+
+void bind_model(py::module_& m) {
+  py::class_<Model, std::shared_ptr<Model>> c(
+      m, "Model", R"(A joint system, or blocks and their joints, in memory.
+
+Made by rockslice.slice, rockslice.load and the stage functions (joints, cut, prune, vertices).
+Arrays are read-only numpy views of the model's memory where it allows (they keep the model
+alive), else arrays made once. Per block: volume, centroid, inertia, flags, cluster, inradius,
+origin, bsphere; per face (face_offset[b] to face_offset[b + 1] for block b): face_normal,
+face_d (relative to the block's origin), face_joint, face_area, face_joint_fraction; vertices:
+vertex_offset, vertices (global), face_vertex_offset, face_vertices (indices into the block's own
+vertices). The names are those of the HDF5 datasets (docs/python.md).)");
+  c.def_property_readonly(
+      "stage", [](const Model& s) { return to_string(s.stage); },
+      "'joints', 'blocks' (not pruned), 'pruned' or 'geometry'");
+  c.def_property_readonly("name", [](const Model& s) { return s.bs->joints.name; });
+  c.def_property_readonly("seed", [](const Model& s) { return s.bs->joints.seed; });
+  c.def_property_readonly("dimension", [](const Model& s) { return s.bs->joints.dimension; });
+  c.def_property_readonly("length_scale", [](const Model& s) { return s.bs->joints.length_scale; });
+  c.def_property_readonly("pruned", [](const Model& s) { return s.bs->pruned; });
+  c.def_property_readonly("provenance", [](const Model& s) {
+    const auto& p = s.provenance;
+    py::dict d;
+    d["tool"] = p.tool;
+    d["version"] = p.version;
+    d["command_line"] = p.command_line;
+    d["input"] = p.input;
+    d["input_sha256"] = p.input_sha256;
+    return d;
+  });
+  c.def(
+      "__len__", [](const Model& s) { return s.bs->blocks.size(); }, "the number of blocks");
+  c.def("__repr__", [](const Model& s) {
+    return "<rockslice.Model '" + s.bs->joints.name + "': " + to_string(s.stage) + ", " +
+           std::to_string(s.bs->joints.joints.size()) + " joints, " +
+           std::to_string(s.bs->blocks.size()) + " blocks>";
+  });
+
+  // Blocks: views of the block array.
+  c.def_property_readonly(
+      "flags", [](py::handle h) { return block_field(h, &slice::Block::flags); },
+      "uint8 per block: 1 boundary, 2 removed, 4 fixed (rockslice.BOUNDARY, ...)");
+  c.def_property_readonly(
+      "cluster", [](py::handle h) { return block_field(h, &slice::Block::cluster); },
+      "int64 per block: its cluster, -1 for none");
+  c.def_property_readonly("inradius",
+                          [](py::handle h) { return block_field(h, &slice::Block::inradius); });
+  c.def_property_readonly(
+      "origin",
+      [](py::handle h) {
+        const auto& blocks = self_of(h).bs->blocks;
+        return view(h, blocks.empty() ? nullptr : blocks.front().origin.data(), blocks.size(),
+                    sizeof(slice::Block), 3);
+      },
+      "(B, 3): each block's Chebyshev centre, the origin of its face_d");
+  c.def_property_readonly(
+      "bsphere",
+      [](py::handle h) {
+        const auto& blocks = self_of(h).bs->blocks;
+        return view(h, blocks.empty() ? nullptr : blocks.front().bsphere.data(), blocks.size(),
+                    sizeof(slice::Block), 4);
+      },
+      "(B, 4): bounding sphere, centre and radius");
+  c.def_property_readonly(
+      "fixed",
+      [](const Model& s) {
+        py::array_t<bool> a(py::ssize_t(s.bs->blocks.size()));
+        auto w = a.mutable_unchecked<1>();
+        for (std::size_t b = 0; b < s.bs->blocks.size(); ++b)
+          w(py::ssize_t(b)) = slice::is_fixed(s.bs->blocks[b]);
+        return a;
+      },
+      "bool per block: it never moves in a DEM model (boundary or fixed_faces)");
+
+  // Faces: flat arrays made once.
+  c.def_property_readonly("face_offset", [](py::handle h) {
+    Model& s = self_of(h);
+    make_faces(s);
+    return view_vector<std::int64_t>(h, *s.face_offset);
+  });
+  c.def_property_readonly("face_normal", [](py::handle h) {
+    Model& s = self_of(h);
+    make_faces(s);
+    return view(h, s.face_planes->data(), s.face_joint->size(), 4 * sizeof(double), 3);
+  });
+  c.def_property_readonly("face_d", [](py::handle h) {
+    Model& s = self_of(h);
+    make_faces(s);
+    return view(h, s.face_planes->data() + 3, s.face_joint->size(), 4 * sizeof(double));
+  });
+  c.def_property_readonly(
+      "face_joint",
+      [](py::handle h) {
+        Model& s = self_of(h);
+        make_faces(s);
+        return view_vector<std::int64_t>(h, *s.face_joint);
+      },
+      "int64 per face: the joint that made it, -1 for a domain face");
+
+  // /geometry: views (computed first for a model without it).
+  c.def_property_readonly(
+      "volume",
+      [](py::handle h) { return view_vector<double>(h, geometry_of(h, false, "volume").volume); },
+      "float64 per block, in the file's block order");
+  c.def_property_readonly("centroid", [](py::handle h) {
+    return view_vector<double>(h, geometry_of(h, false, "centroid").centroid, 3);
+  });
+  c.def_property_readonly(
+      "inertia",
+      [](py::handle h) {
+        return view_vector<double>(h, geometry_of(h, false, "inertia").inertia, 6);
+      },
+      "(B, 6): xx yy zz xy yz zx about the centroid, unit density");
+  c.def_property_readonly("vertex_offset", [](py::handle h) {
+    return view_vector<std::int64_t>(h, geometry_of(h, true, "vertices").vertex_offset);
+  });
+  c.def_property_readonly("vertices", [](py::handle h) {
+    return view_vector<double>(h, geometry_of(h, true, "vertices").vertices, 3);
+  });
+  c.def_property_readonly("face_vertex_offset", [](py::handle h) {
+    return view_vector<std::int64_t>(h, geometry_of(h, true, "face loops").face_vertex_offset);
+  });
+  c.def_property_readonly("face_vertices", [](py::handle h) {
+    return view_vector<std::int64_t>(h, geometry_of(h, true, "face loops").face_vertices);
+  });
+  c.def_property_readonly("face_area", [](py::handle h) {
+    return view_vector<double>(h, geometry_of(h, true, "face areas").face_area);
+  });
+  c.def_property_readonly("face_joint_fraction", [](py::handle h) {
+    return view_vector<double>(h, geometry_of(h, true, "face joint fractions").face_joint_fraction);
+  });
+
+  // Joints: views of the joint array; the polygons and the sets as arrays made here.
+  using J = slice::Joint;
+  c.def_property_readonly("joint_count", [](const Model& s) { return s.bs->joints.joints.size(); });
+  c.def_property_readonly("joint_normal", [](py::handle h) {
+    return joint_field<double>(
+        h, +[](const J& j) { return j.plane.normal.data(); }, 3);
+  });
+  c.def_property_readonly(
+      "joint_d",
+      [](py::handle h) {
+        return joint_field<double>(
+            h, +[](const J& j) { return &j.plane.d; });
+      },
+      "float64 per joint: its plane normal . x = d");
+  c.def_property_readonly("joint_centre", [](py::handle h) {
+    return joint_field<double>(
+        h, +[](const J& j) { return j.centre.data(); }, 3);
+  });
+  c.def_property_readonly("joint_dip", [](py::handle h) {
+    return joint_field<double>(
+        h, +[](const J& j) { return &j.dip_deg; });
+  });
+  c.def_property_readonly("joint_dip_direction", [](py::handle h) {
+    return joint_field<double>(
+        h, +[](const J& j) { return &j.dip_direction_deg; });
+  });
+  c.def_property_readonly(
+      "joint_kind",
+      [](py::handle h) {
+        return joint_field<std::uint8_t>(
+            h, +[](const J& j) { return reinterpret_cast<const std::uint8_t*>(&j.kind); });
+      },
+      "uint8 per joint: 0 rock, 1 construction, 2 boundary");
+  c.def_property_readonly(
+      "joint_set",
+      [](py::handle h) {
+        return joint_field<std::int32_t>(
+            h, +[](const J& j) { return &j.set; });
+      },
+      "int32 per joint: its set (model.sets), -1 for a [[joints]] entry");
+  c.def_property_readonly("joint_friction_angle", [](py::handle h) {
+    return joint_field<double>(
+        h, +[](const J& j) { return &j.friction_angle_deg; });
+  });
+  c.def_property_readonly("joint_cohesion", [](py::handle h) {
+    return joint_field<double>(
+        h, +[](const J& j) { return &j.cohesion; });
+  });
+  c.def_property_readonly("joint_tension", [](py::handle h) {
+    return joint_field<double>(
+        h, +[](const J& j) { return &j.tension; });
+  });
+  c.def_property_readonly(
+      "joint_polygons", [](const Model& s) { return polygons_of(s); },
+      "(offset, corners): joint j's polygon is corners[offset[j]:offset[j + 1]] "
+      "(global, counter-clockwise about its normal); none for a persistent joint");
+  c.def_property_readonly(
+      "sets", [](const Model& s) { return sets_of(s); },
+      "the [[sets]] entries: a dict of columns (name, dip, joint_count, ...)");
+
+  c.def(
+      "friction_deg",
+      [](const Model& s, double default_deg) {
+        std::vector<double> phi;
+        std::size_t first_face = 0;
+        for (std::size_t b = 0; b < s.bs->blocks.size();
+             first_face += s.bs->blocks[b++].faces.size())
+          phi.push_back(slice::block_friction_deg(*s.bs, b, first_face, default_deg));
+        return owned(std::move(phi));
+      },
+      py::arg("default") = 30.0, "each block's friction angle by the YADE export's rule");
+  c.def("_yade_rows", &yade_rows, py::arg("default_friction_deg"));
+}
+
+}  // namespace rockslice

@@ -1,0 +1,76 @@
+# A scene given as a dict (the tables and keys of a scene file, as tomllib reads them) gives the
+# blocks its TOML file gives; a bad key is named by its place in the dict.
+import copy
+import tomllib
+
+import numpy as np
+import pytest
+
+import rockslice
+from conftest import data
+from test_contract import same_blocks
+
+SCENES = ['cube-3sets.toml', 'rock-slope.toml', 'vajont-section.toml', 'table3-lognormal.toml',
+          'tunnel.toml']
+
+
+def load_dict(name):
+    with open(data(name), 'rb') as f:
+        return tomllib.load(f)
+
+
+@pytest.mark.parametrize('scene', SCENES)
+def test_dict_scenes_equal_toml_scenes(scene):
+    d = load_dict(scene)
+    from_file = rockslice.joints(data(scene))
+    from_dict = rockslice.joints(d)
+    for name in ('joint_normal', 'joint_d', 'joint_centre', 'joint_set', 'joint_kind',
+                 'joint_friction_angle'):
+        assert np.array_equal(getattr(from_file, name), getattr(from_dict, name)), name
+    o1, c1 = from_file.joint_polygons
+    o2, c2 = from_dict.joint_polygons
+    assert np.array_equal(o1, o2) and np.array_equal(c1, c2)
+    if scene in ('table3-lognormal.toml', 'tunnel.toml'):
+        return  # joints enough: their blocks take longer (the others cut the same code)
+    same_blocks(rockslice.slice(data(scene)), rockslice.slice(d))
+
+
+def test_dict_values_may_be_numpy_and_tuples():
+    d = load_dict('cube-3sets.toml')
+    d['domain']['box'] = {'min': np.zeros(3), 'max': (10.0, 10, np.float64(10))}
+    d['sets'][0]['spacing'] = np.float32(1.0)
+    d['sets'][1]['dip'] = np.int64(90)
+    m = rockslice.slice(d)
+    assert len(m) == 1000 and np.allclose(m.volume, 1)
+
+
+def test_dict_seed_and_name():
+    d = load_dict('table3-lognormal.toml')
+    a = rockslice.joints(d, seed=3)
+    d['scene']['seed'] = 3
+    b = rockslice.joints(d)
+    assert a.seed == b.seed == 3
+    assert np.array_equal(a.joint_centre, b.joint_centre)
+    assert not np.array_equal(a.joint_centre, rockslice.joints(d, seed=4).joint_centre)
+    assert a.name == d['scene']['name']
+
+
+def test_bad_dict_scenes_name_the_key():
+    d = load_dict('cube-3sets.toml')
+    bad = copy.deepcopy(d)
+    bad['sets'][1]['spaceing'] = bad['sets'][1].pop('spacing')
+    with pytest.raises(rockslice.Error) as e:
+        rockslice.slice(bad)
+    assert e.value.where == "scene['sets'][1]['spaceing']"
+    assert str(e.value).startswith("scene['sets'][1]['spaceing']: unknown key 'spaceing'")
+    assert 'spacing' in e.value.fix
+    bad = copy.deepcopy(d)
+    bad['options']['order'] = 'random'
+    with pytest.raises(rockslice.Error, match=r"^scene\['options'\]\['order'\]: "):
+        rockslice.slice(bad)
+    bad = copy.deepcopy(d)
+    del bad['domain']
+    with pytest.raises(rockslice.Error, match='no \\[domain\\]'):
+        rockslice.slice(bad)
+    with pytest.raises(TypeError, match='not object'):
+        rockslice.slice({'domain': {'box': object()}})
