@@ -3,7 +3,8 @@
 // a temporary folder), runs a 3-seed sweep through pipelines/profiles/slurm, checks that every
 // job ran as a SLURM job, and stops the daemons by their pid files. It needs root (slurmd runs
 // the jobs) and Debian's slurm-wlm and munge (pipelines/test installs them, and slurm-local
-// installs what is missing); without them it fails, it does not skip (exclude it by hand with ctest -E SLURM where that is wanted).
+// installs what is missing); without them it fails, it does not skip (exclude it by hand with
+// ctest -E SLURM where that is wanted).
 #include <unistd.h>
 
 #include <algorithm>
