@@ -1,5 +1,6 @@
 // slice-bench-lp: time against error of every LP backend on the same generated LP sets
-// (DESIGN section 11). A benchmark, not a test: it measures and reports, it asserts nothing.
+// (docs/benchmarks.md, "LP backends"). A benchmark, not a test: it measures and reports, it asserts
+// nothing.
 //
 // Sets: blocks of 8, 20, 50 and 200 LP rows (random planes tangent to a sphere, as the property
 // tests make them), with

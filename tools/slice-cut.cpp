@@ -1,4 +1,5 @@
-// slice-cut: joints.h5 -> blocks.h5 by sequential subdivision (DESIGN section 4).
+// slice-cut: joints.h5 -> blocks.h5 by sequential subdivision (docs/design.md, "The linear
+// programs").
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>

@@ -1,4 +1,5 @@
-// slice-joints: scene file (TOML) -> joints.h5 (DESIGN sections 3, 6, 7).
+// slice-joints: scene file (TOML, docs/scenes.md) -> joints.h5 (docs/formats.md; docs/design.md,
+// "Architecture and data flow").
 #include <charconv>
 #include <cmath>
 #include <cstdint>

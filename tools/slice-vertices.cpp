@@ -1,5 +1,5 @@
 // slice-vertices: blocks.h5 -> geom.h5, the blocks' vertices, face loops, volumes, centroids,
-// inertia, face areas and rock-bridge fractions (/geometry, DESIGN section 7).
+// inertia, face areas and rock-bridge fractions (/geometry; docs/design.md, "Files and schema").
 #include <cstdio>
 #include <future>
 #include <string>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Scaling benchmark (DESIGN section 11, paper Fig. 20): the paper's Table 3 scene with
+# Scaling benchmark (docs/benchmarks.md, paper Fig. 20): the paper's Table 3 scene with
 # persistent sets, the spacing varied for about 1,000 to 100,000 blocks, cut and pruned with
 # and without the spatial index. Writes pipelines/bench/results/scaling.csv and scaling.png.
 #   bash pipelines/bench/scaling.sh [spacing ...]     (default spacings below)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Workflow benchmark (issue 14): the README's realization sweep (pipelines/config.yaml:
+# Workflow benchmark (issue 14): docs/workflow.md's realization sweep (pipelines/config.yaml:
 # data/table3-lognormal.toml, 8 seeds, VTU, plots, summary) run by Snakemake with --cores 1 and
 # --cores 2, each time followed by three reruns with nothing changed; then the same with the
 # scene's three densities raised from 1e-3 to 5e-3 and 1e-2 per m3 (about 100,000 and 260,000

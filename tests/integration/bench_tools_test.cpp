@@ -1,4 +1,4 @@
-// slice-bench-lp end to end on small sets: the CSV the README's table and plot come from.
+// slice-bench-lp end to end on small sets: the CSV docs/benchmarks.md's table and plot come from.
 // It asserts what the tool writes and what exact certifies, never a time.
 #include <catch2/catch.hpp>
 #include <fstream>

@@ -1,9 +1,10 @@
 // Issue 14 item 4: the workflow runs on SLURM. The test starts a single-node cluster on this
-// machine (tests/integration/slurm/cluster: munged, slurmctld, slurmd, all state in a temporary
-// folder), runs a 3-seed sweep through pipelines/profiles/slurm, checks that every job ran as a
-// SLURM job, and stops the daemons by their pid files. It needs root (slurmd runs the jobs) and
-// Debian's slurm-wlm and munge (pipelines/test installs them); without them it fails, it does
-// not skip (exclude it by hand with ctest -E SLURM where that is wanted).
+// machine with the users' script pipelines/slurm-local (munged, slurmctld, slurmd, all state in
+// a temporary folder), runs a 3-seed sweep through pipelines/profiles/slurm, checks that every
+// job ran as a SLURM job, and stops the daemons by their pid files. It needs root (slurmd runs
+// the jobs) and Debian's slurm-wlm and munge (pipelines/test installs them, and slurm-local
+// installs what is missing); without them it fails, it does not skip (exclude it by hand with
+// ctest -E SLURM where that is wanted).
 #include <unistd.h>
 
 #include <algorithm>
@@ -21,7 +22,7 @@ namespace {
 using test::fs::path;
 
 const path kRoot = path(SLICE_TEST_DATA_DIR).parent_path().parent_path();
-const path kCluster = kRoot / "tests" / "integration" / "slurm" / "cluster";
+const path kCluster = kRoot / "pipelines" / "slurm-local";
 
 // Starts the cluster in `dir`; stops it when it goes out of scope, whatever the test did.
 class Cluster {

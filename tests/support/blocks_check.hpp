@@ -1,5 +1,5 @@
 #pragma once
-// Independent checks of a slicing result (DESIGN section 10 invariants), shared by the tests.
+// Independent checks of a slicing result (docs/design.md, "Invariants"), shared by the tests.
 #include <cstdint>
 #include <vector>
 

@@ -1,5 +1,5 @@
 // slice-cut's library: hand-checkable scenes with known answers, and the degenerate inputs of
-// DESIGN section 10.
+// docs/design.md, "Robustness".
 #include "slice/cut.hpp"
 
 #include <catch2/catch.hpp>

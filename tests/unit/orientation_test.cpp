@@ -1,5 +1,5 @@
-// The orientation convention (DESIGN section 4): x East, y North, z Up; dip direction clockwise
-// from North; upward normal n = (sin d sin a, sin d cos a, cos d).
+// The orientation convention (docs/design.md, "The linear programs"): x East, y North, z Up; dip
+// direction clockwise from North; upward normal n = (sin d sin a, sin d cos a, cos d).
 #include "slice/orientation.hpp"
 
 #include <catch2/catch.hpp>

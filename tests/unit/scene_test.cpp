@@ -1,4 +1,4 @@
-// Scene files (DESIGN section 6): the examples in data/, joint generation from regular sets
+// Scene files (docs/scenes.md): the examples in data/, joint generation from regular sets
 // (reference/table3-block-counts.md), introduction order, and one case per kind of bad input.
 #include "slice/scene.hpp"
 

@@ -1,7 +1,7 @@
-// slice/stochastic.hpp and the stochastic [[sets]] of scene files (DESIGN section 8): shapes by
-// hand, the measures by hand, then the statistics of generated sets against the requested
-// distributions (fixed seeds; each statistic is also shown to reject a wrong distribution),
-// reproducibility, and bad input.
+// slice/stochastic.hpp and the stochastic [[sets]] of scene files (docs/design.md, "Stochastic
+// joints"): shapes by hand, the measures by hand, then the statistics of generated sets against the
+// requested distributions (fixed seeds; each statistic is also shown to reject a wrong
+// distribution), reproducibility, and bad input.
 #include "slice/stochastic.hpp"
 
 #include <gsl/gsl_cdf.h>

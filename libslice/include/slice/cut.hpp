@@ -1,6 +1,7 @@
 #pragma once
-// Sequential subdivision (Boon et al. 2015, sections 2.1-2.7; DESIGN section 4): joints.h5 in,
-// blocks out. A block is only its half-spaces; every decision is one small LP (lp.hpp).
+// Sequential subdivision (Boon et al. 2015, sections 2.1-2.7; docs/design.md, "The linear
+// programs"): joints.h5 in, blocks out. A block is only its half-spaces; every decision is one
+// small LP (lp.hpp).
 #include <cstddef>
 #include <cstdint>
 

@@ -1,10 +1,10 @@
 #pragma once
-// VTK XML unstructured grids for ParaView (DESIGN section 9) in VTK 9's file format: appended raw
-// binary data, compressed (LZ4 by default) in blocks of 32 KiB, 64-bit headers. Written as they
-// are made, a chunk at a time, by the library's own writer (VTK's writer built a second copy of
-// the grid: 1.85 GB at 964,156 blocks); VTK's reader and ParaView read them.
-// Outputs are atomic ("<out>.partial", renamed when complete) and deterministic (the same
-// blocks give the same bytes).
+// VTK XML unstructured grids for ParaView (docs/design.md, "Exports") in VTK 9's file format:
+// appended raw binary data, compressed (LZ4 by default) in blocks of 32 KiB, 64-bit headers.
+// Written as they are made, a chunk at a time, by the library's own writer (VTK's writer built a
+// second copy of the grid: 1.85 GB at 964,156 blocks); VTK's reader and ParaView read them. Outputs
+// are atomic ("<out>.partial", renamed when complete) and deterministic (the same blocks give the
+// same bytes).
 #include <cstddef>
 #include <filesystem>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
-// YADE models (DESIGN section 9): a Python script that `yade -n -x model.py` runs as is, with the
-// block data inside it (one line per block). Two shapes:
+// YADE models (docs/design.md, "Exports"; docs/dem-exports.md): a Python script that `yade -n -x
+// model.py` runs as is, with the block data inside it (one line per block). Two shapes:
 //   polyhedra         vertex-based Polyhedra bodies (YADE as Debian packages it);
 //   potential_blocks  face-based PotentialBlock bodies (YADE built with ENABLE_POTENTIAL_BLOCKS;
 //                     the script stops with a clear message on a YADE without them).

@@ -1,5 +1,6 @@
 #pragma once
-// Planes, half-spaces and blocks. A convex block is nothing but its faces (DESIGN section 1).
+// Planes, half-spaces and blocks. A convex block is nothing but its faces (docs/design.md,
+// "Architecture and data flow").
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
@@ -32,7 +33,7 @@ struct Face {
   std::int64_t joint = -1;      // joint that made the face; -1 = domain face
 };
 
-/// Bits of Block::flags (HDF5 /blocks/flags, DESIGN section 7).
+/// Bits of Block::flags (HDF5 /blocks/flags; docs/design.md, "Files and schema").
 // kFixed: the block touches a face of the domain named in [options] fixed_faces.
 enum BlockFlag : std::uint8_t { kBoundary = 1u << 0, kRemoved = 1u << 1, kFixed = 1u << 2 };
 
@@ -53,10 +54,10 @@ inline bool is_fixed(const Block& b) { return (b.flags & (kBoundary | kFixed)) !
 /// (|r|^2 Id - r r^T) dV, so off-diagonal entries carry the minus sign (Ixy = -integral x y dV).
 using Inertia = std::array<double, 6>;
 
-/// Vertices, face loops and mass properties of every block of a block system (HDF5 /geometry,
-/// DESIGN section 7), stored as the file stores them: CSR arrays. Per-block arrays have one row
-/// per block (B rows); per-face arrays one row per face, in the order of the blocks' faces (F
-/// rows, the rows of /blocks/face_normal).
+/// Vertices, face loops and mass properties of every block of a block system (HDF5 /geometry;
+/// docs/design.md, "Files and schema"), stored as the file stores them: CSR arrays. Per-block
+/// arrays have one row per block (B rows); per-face arrays one row per face, in the order of the
+/// blocks' faces (F rows, the rows of /blocks/face_normal).
 struct Geometry {
   std::vector<std::int64_t> vertex_offset{0};       // B + 1: block b owns vertices [o_b, o_b+1)
   std::vector<Vec3> vertices;                       // V, global frame

@@ -1,8 +1,8 @@
 #pragma once
-// joints.h5 and blocks.h5, schema version 1 (DESIGN section 7). This module owns both formats:
-// writers are atomic (written to "<out>.partial", renamed when complete) and deterministic
-// (no time stamps: the same content gives the same bytes); readers validate everything and
-// throw Error naming the file, the dataset, the row and the fix.
+// joints.h5 and blocks.h5, schema version 1 (docs/formats.md; why: docs/design.md, "Files and
+// schema"). This module owns both formats: writers are atomic (written to "<out>.partial", renamed
+// when complete) and deterministic (no time stamps: the same content gives the same bytes); readers
+// validate everything and throw Error naming the file, the dataset, the row and the fix.
 #include <filesystem>
 #include <memory>
 #include <optional>

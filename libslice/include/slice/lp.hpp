@@ -1,6 +1,6 @@
 #pragma once
 // The paper's four linear programs (Boon et al. 2015, eqs. 7/16, 8, 17 and 18) behind one solver
-// interface with three backends (DESIGN sections 4 and 5):
+// interface with three backends (docs/design.md, "The linear programs" and "LP backends"):
 //   native  a dual simplex for tiny dense LPs written here (src/lp/lp_native.cpp)
 //   ipopt   Ipopt's interior point method through its TNLP interface (lp_ipopt.cpp)
 //   exact   CGAL's LP solver over CGAL::Gmpzf, exact on the given doubles (lp_exact.cpp)

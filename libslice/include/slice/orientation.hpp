@@ -1,7 +1,7 @@
 #pragma once
-// Orientation conventions (DESIGN section 4). Global frame x = East, y = North, z = Up.
-// Dip direction alpha clockwise from North, dip delta from horizontal, both in degrees at the
-// edges (scene files, HDF5), radians nowhere in this header.
+// Orientation conventions (docs/design.md, "The linear programs": Frame). Global frame
+// x = East, y = North, z = Up. Dip direction alpha clockwise from North, dip delta from
+// horizontal, both in degrees at the edges (scene files, HDF5), radians nowhere in this header.
 #include "slice/geometry.hpp"
 
 namespace slice {

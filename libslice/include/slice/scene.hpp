@@ -1,6 +1,6 @@
 #pragma once
-// The scene (DESIGN section 6) and the joint system it generates (the content of joints.h5,
-// DESIGN section 7).
+// The scene (docs/scenes.md) and the joint system it generates (the content of joints.h5;
+// docs/design.md, "Files and schema").
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -88,7 +88,7 @@ struct SliceOptions {
   SliverRule slivers = SliverRule::join;  // [options] slivers
 };
 
-/// How a [[sets]] entry says how many joints it has (DESIGN section 8).
+/// How a [[sets]] entry says how many joints it has (docs/design.md, "Stochastic joints").
 enum class SetIntensity {
   spacing,  // regular persistent planes n . x = offset + k * spacing
   density,  // Poisson process: centres per unit volume

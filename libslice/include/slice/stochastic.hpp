@@ -1,8 +1,8 @@
 #pragma once
-// Stochastic joint sets (DESIGN section 8): joint shapes and sizes, Fisher orientations, Poisson
-// centres, and the intensity measures P32 (joint area per unit volume) and P10 (joints per unit
-// length of a scanline). Randomness is GSL's gsl_rng_mt19937, one stream per set, drawn in a
-// fixed order; GSL stays inside stochastic.cpp.
+// Stochastic joint sets (docs/design.md, "Stochastic joints"): joint shapes and sizes, Fisher
+// orientations, Poisson centres, and the intensity measures P32 (joint area per unit volume) and
+// P10 (joints per unit length of a scanline). Randomness is GSL's gsl_rng_mt19937, one stream per
+// set, drawn in a fixed order; GSL stays inside stochastic.cpp.
 #include <cstddef>
 #include <cstdint>
 #include <string>

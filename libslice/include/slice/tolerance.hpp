@@ -1,5 +1,6 @@
 #pragma once
-// Every tolerance of a run, from one length scale (DESIGN section 10).
+// Every tolerance of a run, from one length scale (docs/design.md, "Tolerances and the length
+// scale").
 namespace slice {
 
 struct Tolerances {

@@ -1,7 +1,7 @@
 #pragma once
-// Vertices, face loops and mass properties of the blocks that survive slicing, computed once at
-// the end (DESIGN sections 1, 3 and 7). Slicing keeps only half-spaces; this is where a block
-// becomes a polyhedron.
+// Vertices, face loops and mass properties of the blocks that survive slicing, computed once at the
+// end (docs/design.md, "Architecture and data flow" and "Files and schema"). Slicing keeps only
+// half-spaces; this is where a block becomes a polyhedron.
 //
 // Method: the block's faces n_i . (x - o) <= d_i about an interior point o (its Chebyshev
 // centre, d_i >= inradius > 0) are dual to the points n_i / d_i; the convex hull of those points

@@ -58,7 +58,7 @@ struct BodyData {
   Vec3 centroid = Vec3::Zero();
 };
 
-const char* kHeader = R"(# Rules (rockslice README, "YADE models"):
+const char* kHeader = R"(# Rules (rockslice docs/dem-exports.md, "YADE"):
 #  - one body per block that is not removed;
 #  - one material per block; its friction angle is the smallest friction angle of the joints of
 #    its faces, over rock and boundary joints (domain faces and construction joints are no

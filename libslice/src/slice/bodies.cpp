@@ -55,8 +55,8 @@ struct SidesByJoint {
 
 /// How two blocks touch across the plane of one joint, on which both have a face (a.face and
 /// c.face, facing each other): the inscribed radius of the region of the plane inside both
-/// blocks' other faces. Positive area: touches (the cut test's LP on the plane, DESIGN section
-/// 4's cluster rule). `merged` is scratch.
+/// blocks' other faces. Positive area: touches (the cut test's LP on the plane; docs/design.md,
+/// "Clusters and slivers"). `merged` is scratch.
 struct Contact {
   bool solved = false;  // an LP was solved (the bounding spheres overlap)
   bool touches = false;
@@ -102,10 +102,10 @@ double depth_behind(const Block& b, std::size_t f, LpSolver& solver, const Toler
   return r.status == LpStatus::optimal ? b.faces[f].d + r.objective : -1;
 }
 
-/// Clusters (DESIGN section 4): kept blocks with opposite faces of the same construction joint
-/// whose other faces leave a region of the shared plane with positive area. A removed block
-/// joins no cluster, so nothing kept is joined through one (kept blocks at a slope face would
-/// otherwise chain through the removed air blocks into one clump).
+/// Clusters (docs/design.md, "Clusters and slivers"): kept blocks with opposite faces of the same
+/// construction joint whose other faces leave a region of the shared plane with positive area. A
+/// removed block joins no cluster, so nothing kept is joined through one (kept blocks at a slope
+/// face would otherwise chain through the removed air blocks into one clump).
 void join_clusters(const std::vector<Block>& blocks, const JointSystem& js, Referee& referee,
                    UnionFind& sets, BodyStats& st) {
   const SidesByJoint sides(

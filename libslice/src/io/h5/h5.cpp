@@ -273,7 +273,7 @@ void Group::remove_attribute(const std::string& name) const {
 namespace {
 
 // Rows per chunk of a compressed dataset: about 256 kB; shuffle groups the bytes of equal weight,
-// which deflate packs better (the figures in the README).
+// which deflate packs better (the figures in docs/benchmarks.md).
 hsize_t compressed_chunk_rows(hsize_t row_bytes) {
   return std::max<hsize_t>(1, (256 << 10) / row_bytes);
 }
