@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "scene_read.hpp"
+#include "scene_common.hpp"
 #include "slice/error.hpp"
 #include "slice/orientation.hpp"
 #include "slice/polytope.hpp"

@@ -1,8 +1,8 @@
 #pragma once
 // What the readers of a scene file share (libslice/src/scene/: scene.cpp reads the file and its
-// single tables, joint_entries.cpp [[joints]] and [[sets]], zones.cpp [[zones]], generate.cpp
-// makes the joints): the scene's schema, the keys of each table; the domain's analysis and the
-// context every entry is read in. Private to libslice/src/scene/.
+// single tables, joint_entries.cpp [[joints]] and [[sets]], zones.cpp [[zones]]): the scene's
+// schema, the keys of each table, and the context every entry is read in (scene_common.hpp has
+// what generate.cpp needs too). Private to libslice/src/scene/.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "scene_common.hpp"
 #include "slice/mesh.hpp"
 #include "slice/polytope.hpp"
 #include "slice/scene.hpp"
@@ -72,26 +73,9 @@ inline constexpr std::int64_t kMaxSides = 1000;
 
 inline constexpr std::array<std::string_view, 2> kKeepNames = {"above", "below"};
 
-// More planes than this in one set is a unit slip (spacing in m, domain in mm), not a scene.
-inline constexpr double kMaxPlanesPerSet = 1e6;
-
 // ---------------------------------------------------------------------------------------------
 // Regions (domain, zones): scene.cpp
 
-enum class RegionStatus { ok, unbounded, empty };
-
-struct RegionAnalysis {
-  RegionStatus status = RegionStatus::empty;
-  PolytopeInfo info;
-  double length_scale = 0;  // half the bounding-box diagonal of the vertices
-};
-
-// A region analysed with tolerances relative to its own size (scene.cpp says how).
-RegionAnalysis analyse_region(std::span<const Plane> planes, double rel, int dimension);
-// Range of n . v over the domain's vertices.
-std::pair<double, double> extent_along(const std::vector<Vec3>& vertices, const Vec3& n);
-// The upward unit normal of dip / dip direction (y = 0 in a 2-D section).
-Vec3 dip_normal(double dip_deg, double dip_direction_deg, int dimension);
 // The region of a table with `box` or `planes` (its keys already checked).
 Region region_of(const Tbl& t, int dimension);
 
@@ -106,8 +90,6 @@ struct Context {
   std::filesystem::path dir{};  // the scene file's directory: relative mesh paths start there
   double tol() const { return rel_tol * domain_info.length_scale; }
 };
-
-DomainBox domain_box(const Region& domain, const RegionAnalysis& a, double rel_tol);
 
 // An entry's place in the sequence: `stage` (a whole number >= 1, default 1) and its line.
 EntryPlace read_place(const Reader& r, const toml::table& t, const std::string& ctx,

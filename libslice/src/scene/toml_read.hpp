@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "scene_common.hpp"
 #include "slice/error.hpp"
 #include "slice/geometry.hpp"
 
@@ -22,8 +23,6 @@ namespace slice::scene_read {
 
 using Keys = std::span<const std::string_view>;
 
-std::string fmt(double x, int digits = 12);
-std::string fmt(const Vec3& v);
 std::string quote_key(std::string_view k);
 std::string join(Keys keys, std::string_view sep);
 // The known name closest to `s`, if it is close enough to be a likely typo; "" otherwise.
