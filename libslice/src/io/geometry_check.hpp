@@ -1,8 +1,9 @@
 #pragma once
-// libslice/src/io/geometry_check.cpp: the values of /geometry against each other, for the
-// readers and writers of h5io.cpp (issue 25 item 4). h5io.cpp checks shapes, indices, finite
-// values and that the vertices lie on their faces; this checks what those leave open: loops,
-// areas, volume, centroid and inertia, in O(size) (a reader runs it on million-block files).
+// libslice/src/io/geometry_check.cpp: the values of /geometry against each other, for its
+// reader and writers (geometry_file.cpp, issue 25 item 4). geometry_file.cpp checks shapes,
+// indices, finite values and that the vertices lie on their faces; this checks what those leave
+// open: loops, areas, volume, centroid and inertia, in O(size) (a reader runs it on
+// million-block files).
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -20,7 +21,7 @@ struct GeometryBase {
 
 /// What is wrong with the values of block b of the run `g` (the file's block base.block + b, its
 /// first face the run's face row `face_row`), or "" if nothing, within the length tolerance
-/// `tol` (h5io.cpp's vertex_tolerance): each loop visits a vertex once and runs
+/// `tol` (geometry_file.cpp's vertex_tolerance): each loop visits a vertex once and runs
 /// counter-clockwise seen from outside (right-handed about the face normal) and encloses the
 /// face's stored area; the loops close; the stored volume, centroid and inertia are the ones
 /// they give; the centroid lies inside the block. `section`: a 2-D file (docs/2d.md), whose

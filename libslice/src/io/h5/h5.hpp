@@ -3,7 +3,7 @@
 // Every identifier is owned by a Handle and closed on destruction; every call is checked and a
 // failure becomes slice::Error("<file>", "<what> (HDF5: <reason>)", "<fix>"). HDF5's own error
 // printing is switched off. This header does not include <hdf5.h>, so code using the wrapper
-// (h5io.cpp, tests that craft bad files) needs no HDF5 include path.
+// (io/*_file.cpp, tests that craft bad files) needs no HDF5 include path.
 //
 // Files are reproducible: no time stamps (obj_track_times off on every group and dataset),
 // contiguous storage (chunked where a dataset grows) and no filters (unless Context::compress),

@@ -1,0 +1,355 @@
+#include <algorithm>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <future>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "file_common.hpp"
+
+// /blocks; the writers (write_blocks, BlocksFileWriter) and the reader of blocks.h5.
+namespace slice::h5file {
+
+namespace {
+
+void check_blocks(const Checker& c, const BlockSystem& bs, bool with_geometry = true) {
+  check_joints(c, bs.joints);
+  const auto joints = static_cast<std::int64_t>(bs.joints.joints.size());
+  std::size_t face_row = 0;
+  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
+    const Block& blk = bs.blocks[b];
+    c.finite(blk.origin, At{"/blocks/origin", b});
+    const bool section = bs.joints.dimension == 2;
+    if (section && blk.origin.y() != 0)
+      c.fail(at("/blocks/origin", b) + " has y = " + num(blk.origin.y()) +
+             "; a 2-D file (root attribute dimension 2) has y = 0 everywhere");
+    for (const Face& f : blk.faces) {
+      c.unit(f.normal, At{"/blocks/face_normal", face_row});
+      if (section && f.normal.y() != 0)
+        c.fail(at("/blocks/face_normal", face_row) + " has y = " + num(f.normal.y()) +
+               "; a 2-D file (root attribute dimension 2) has y = 0 everywhere");
+      c.finite(f.d, At{"/blocks/face_d", face_row});
+      if (f.joint < -1 || f.joint >= joints)
+        c.fail(at("/blocks/face_joint", face_row) + " is " + str(f.joint) +
+               "; expected -1 (domain face) or a joint index below " + str(joints) +
+               " (the rows of /joints/normal)");
+      ++face_row;
+    }
+    c.non_negative(blk.inradius, At{"/blocks/inradius", b});
+    c.finite(blk.bsphere, At{"/blocks/bsphere", b});
+    c.non_negative(blk.bsphere[3], At{"/blocks/bsphere", b, " radius"});
+    if (blk.cluster < -1)
+      c.fail(at("/blocks/cluster", b) + " is " + str(blk.cluster) +
+             "; expected -1 (none) or a cluster id");
+  }
+  if (with_geometry && bs.geometry) check_geometry(c, bs);
+}
+
+void write_blocks_group(const Group& root, const BlockSystem& bs) {
+  const std::size_t n = bs.blocks.size();
+  const std::size_t faces = face_count(bs.blocks);
+  const Group g = root.create_group("blocks");
+  g.write_attribute<std::int64_t>("pruned", bs.pruned ? 1 : 0);
+  auto origin = g.create_rows<double>("origin", n, 3);
+  auto face_offset = g.create_rows<std::int64_t>("face_offset", n + 1, 0);
+  auto face_normal = g.create_rows<double>("face_normal", faces, 3);
+  auto face_d = g.create_rows<double>("face_d", faces, 0);
+  auto face_joint = g.create_rows<std::int64_t>("face_joint", faces, 0);
+  auto inradius = g.create_rows<double>("inradius", n, 0);
+  auto bsphere = g.create_rows<double>("bsphere", n, 4);
+  auto flags = g.create_rows<std::uint8_t>("flags", n, 0);
+  auto cluster = g.create_rows<std::int64_t>("cluster", n, 0);
+  std::vector<double> o, fn, fd, ir, bsph;
+  std::vector<std::int64_t> off{0}, fj, cl;
+  std::vector<std::uint8_t> fl;
+  std::int64_t face_row = 0;
+  for (std::size_t b0 = 0; b0 < n; b0 += kBatch) {
+    o.clear(), fn.clear(), fd.clear(), ir.clear(), bsph.clear(), fj.clear(), cl.clear(), fl.clear();
+    if (b0 > 0) off.clear();
+    for (std::size_t i = b0; i < std::min(n, b0 + kBatch); ++i) {
+      const Block& b = bs.blocks[i];
+      o.insert(o.end(), b.origin.data(), b.origin.data() + 3);
+      for (const Face& f : b.faces) {
+        fn.insert(fn.end(), f.normal.data(), f.normal.data() + 3);
+        fd.push_back(f.d);
+        fj.push_back(f.joint);
+      }
+      face_row += static_cast<std::int64_t>(b.faces.size());
+      off.push_back(face_row);
+      ir.push_back(b.inradius);
+      bsph.insert(bsph.end(), b.bsphere.data(), b.bsphere.data() + 4);
+      fl.push_back(b.flags);
+      cl.push_back(b.cluster);
+    }
+    origin.append(o);
+    face_offset.append(off);
+    face_normal.append(fn);
+    face_d.append(fd);
+    face_joint.append(fj);
+    inradius.append(ir);
+    bsphere.append(bsph);
+    flags.append(fl);
+    cluster.append(cl);
+  }
+  if (n == 0) face_offset.append(off);
+  for (auto* w : {&origin, &face_normal, &face_d, &inradius, &bsphere}) w->finish();
+  for (auto* w : {&face_offset, &face_joint, &cluster}) w->finish();
+  flags.finish();
+}
+
+// Rows [lo, hi) of a dataset into `buf`.
+template <class T>
+void read_run(const h5::RowReader<T>& r, std::size_t lo, std::size_t hi, std::size_t width,
+              std::vector<T>& buf) {
+  buf.resize((hi - lo) * width);
+  r.read(lo, hi - lo, buf.data());
+}
+
+std::vector<Block> read_blocks_group(const Group& root, bool& pruned) {
+  const Group g = root.open_group("blocks");
+  const auto pruned_value = g.read_attribute<std::int64_t>("pruned");
+  if (pruned_value != 0 && pruned_value != 1)
+    fail(g, "/blocks attribute pruned is " + str(pruned_value) + "; expected 0 or 1");
+  pruned = pruned_value == 1;
+
+  const auto origin = g.open_rows<double>("origin", 3);
+  const std::size_t n = origin.rows();
+  const std::string because = "the rows of /blocks/origin";
+  const auto offset = g.read<std::int64_t>("face_offset");
+  const auto face_normal = g.open_rows<double>("face_normal", 3);
+  const std::size_t faces = face_normal.rows();
+  check_offsets(g, "face_offset", offset, n, "blocks", faces, "/blocks/face_normal");
+  const std::string face_because = "the rows of /blocks/face_normal";
+  const auto face_d = g.open_rows<double>("face_d", 0);
+  expect_rows(g, "face_d", face_d.rows(), faces, face_because);
+  const auto face_joint = g.open_rows<std::int64_t>("face_joint", 0);
+  expect_rows(g, "face_joint", face_joint.rows(), faces, face_because);
+  const auto inradius = g.open_rows<double>("inradius", 0);
+  expect_rows(g, "inradius", inradius.rows(), n, because);
+  const auto bsphere = g.open_rows<double>("bsphere", 4);
+  expect_rows(g, "bsphere", bsphere.rows(), n, because);
+  const auto flags = g.open_rows<std::uint8_t>("flags", 0);
+  expect_rows(g, "flags", flags.rows(), n, because);
+  const auto cluster = g.open_rows<std::int64_t>("cluster", 0);
+  expect_rows(g, "cluster", cluster.rows(), n, because);
+
+  // In runs of kBatch blocks: the flat arrays are never held whole.
+  std::vector<Block> blocks(n);
+  std::vector<double> o, fn, fd, ir, bsph;
+  std::vector<std::int64_t> fj, cl;
+  std::vector<std::uint8_t> fl;
+  for (std::size_t b0 = 0; b0 < n; b0 += kBatch) {
+    const std::size_t b1 = std::min(n, b0 + kBatch);
+    const auto f0 = static_cast<std::size_t>(offset[b0]);
+    const auto f1 = static_cast<std::size_t>(offset[b1]);
+    read_run(origin, b0, b1, 3, o);
+    read_run(face_normal, f0, f1, 3, fn);
+    read_run(face_d, f0, f1, 1, fd);
+    read_run(face_joint, f0, f1, 1, fj);
+    read_run(inradius, b0, b1, 1, ir);
+    read_run(bsphere, b0, b1, 4, bsph);
+    read_run(flags, b0, b1, 1, fl);
+    read_run(cluster, b0, b1, 1, cl);
+    for (std::size_t b = b0; b < b1; ++b) {
+      Block& blk = blocks[b];
+      const std::size_t i = b - b0;
+      blk.origin = vec3(o, i);
+      const auto k0 = static_cast<std::size_t>(offset[b]) - f0;
+      const auto k1 = static_cast<std::size_t>(offset[b + 1]) - f0;
+      blk.faces.reserve(k1 - k0);
+      for (std::size_t k = k0; k < k1; ++k) blk.faces.push_back({vec3(fn, k), fd[k], fj[k]});
+      blk.inradius = ir[i];
+      blk.bsphere = {bsph[4 * i], bsph[4 * i + 1], bsph[4 * i + 2], bsph[4 * i + 3]};
+      blk.flags = fl[i];
+      blk.cluster = cl[i];
+    }
+  }
+  return blocks;
+}
+
+}  // namespace
+
+}  // namespace slice::h5file
+
+namespace slice {
+
+using namespace h5file;
+
+void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& prov,
+                  const WriteOptions& opt) {
+  check_blocks(Checker(out.string(), kNotWritten), bs);
+  write_file(out, FileKind::blocks, prov, bs.joints, opt, [&](const Group& root) {
+    write_blocks_group(root, bs);
+    if (bs.geometry) write_geometry_group(root, bs);
+  });
+}
+
+// The bytes of a run's arrays.
+std::size_t run_bytes(const Geometry& g) {
+  return g.vertices.size() * sizeof(Vec3) + g.centroid.size() * sizeof(Vec3) +
+         g.inertia.size() * sizeof(Inertia) +
+         (g.vertex_offset.size() + g.face_vertex_offset.size() + g.face_vertices.size()) *
+             sizeof(std::int64_t) +
+         (g.volume.size() + g.face_area.size() + g.face_joint_fraction.size()) * sizeof(double);
+}
+
+// The runs of /geometry the writing thread has not taken yet hold at most this many bytes (or
+// one run): a sink that would pass it waits. Uncompressed, the thread keeps up once /blocks is
+// written (about 7 runs of Table 3 at 1.0 m queue meanwhile); deflate is slower than the
+// geometry, and without a bound the whole of it would wait in memory.
+constexpr std::size_t kQueuedBytes = std::size_t(256) << 20;
+
+struct BlocksFileWriter::Impl {
+  Impl(const BlockSystem& b, std::string n) : bs(b), name(std::move(n)) {}
+  const BlockSystem& bs;
+  std::string name;
+  std::optional<OpenFile> file;
+  std::future<void> writing;  // the header, joints, /blocks, then the runs of /geometry
+  std::mutex mutex;
+  std::condition_variable ready;  // a run came, or no more will
+  std::condition_variable taken;  // the writing thread took a run, or stopped
+  std::deque<Geometry> runs;      // given by the sink, not yet taken
+  std::size_t queued_bytes = 0;   // their run_bytes
+  bool streamed = false;          // geometry_sink() was asked for
+  bool closed = false;            // no more runs will come
+  bool abandoned = false;         // destroyed unfinished: write no more
+  bool stopped = false;           // the writing thread ended (its error, if any, in `writing`)
+
+  // The writing thread: /blocks, then each run as it comes, checked against its blocks.
+  void write() {
+    h5::silence_thread();  // a full disk: one error line, not HDF5's 41 lines of stack
+    try {
+      write_all();
+    } catch (...) {
+      stop();
+      throw;
+    }
+    stop();
+  }
+
+  void write_all() {
+    const Group& root = file->f.root();
+    write_blocks_group(root, bs);
+    std::optional<GeometryWriter> geo;
+    const Checker c(name, kNotWritten);
+    for (;;) {
+      Geometry run;
+      {
+        std::unique_lock lock(mutex);
+        ready.wait(lock, [&] { return !runs.empty() || closed; });
+        if (runs.empty()) break;
+        run = std::move(runs.front());
+        runs.pop_front();
+        queued_bytes -= run_bytes(run);
+      }
+      taken.notify_one();
+      if (!geo) geo.emplace(root, bs);
+      const std::size_t n = run.volume.size();
+      check_geometry(c, bs, run, geo->next(), n, vertex_tolerance(bs.joints, run.vertices));
+      geo->append(run, 0, 0, n);
+    }
+    if (abandoned) return;
+    if (streamed && !geo) geo.emplace(root, bs);  // no blocks: empty datasets
+    if (geo) geo->finish();
+    if (!streamed && bs.geometry) write_geometry_group(root, bs);  // checked by finish()
+  }
+
+  // Queues a run, waiting while the queue is full; drops it once the thread has stopped.
+  void give(Geometry&& run) {
+    const std::size_t bytes = run_bytes(run);
+    {
+      std::unique_lock lock(mutex);
+      taken.wait(lock, [&] {
+        return stopped || abandoned || queued_bytes == 0 || queued_bytes + bytes <= kQueuedBytes;
+      });
+      if (stopped || abandoned) return;
+      runs.push_back(std::move(run));
+      queued_bytes += bytes;
+    }
+    ready.notify_one();
+  }
+
+  void stop() {
+    {
+      std::lock_guard lock(mutex);
+      stopped = true;
+      runs.clear();
+      queued_bytes = 0;
+    }
+    taken.notify_all();
+  }
+
+  void close() {
+    {
+      std::lock_guard lock(mutex);
+      closed = true;
+    }
+    ready.notify_one();
+  }
+};
+
+BlocksFileWriter::BlocksFileWriter(const fs::path& out, const BlockSystem& bs,
+                                   const Provenance& prov, const WriteOptions& opt)
+    : impl_(std::make_unique<Impl>(bs, out.string())) {
+  check_blocks(Checker(out.string(), kNotWritten), bs, false);
+  // A bad output path fails here, before any work; the large /blocks group is written meanwhile.
+  impl_->file.emplace(out, FileKind::blocks, prov, bs.joints, opt);
+  impl_->writing = std::async(std::launch::async, [&m = *impl_] { m.write(); });
+}
+
+BlocksFileWriter::~BlocksFileWriter() {
+  if (!impl_->writing.valid()) return;
+  {
+    // Unfinished: the runs not yet written are not wanted.
+    std::lock_guard lock(impl_->mutex);
+    impl_->runs.clear();
+    impl_->queued_bytes = 0;
+    impl_->abandoned = true;
+  }
+  impl_->taken.notify_all();
+  impl_->close();
+  impl_->writing.wait();
+}
+
+GeometrySink BlocksFileWriter::geometry_sink() {
+  {
+    std::lock_guard lock(impl_->mutex);
+    impl_->streamed = true;
+  }
+  return [&m = *impl_](std::size_t first, Geometry&& part) {
+    (void)first;  // runs come in block order: the writer counts the blocks
+    m.give(std::move(part));
+  };
+}
+
+void BlocksFileWriter::finish() {
+  Impl& m = *impl_;
+  if (m.bs.geometry && !m.streamed) check_geometry(Checker(m.name, kNotWritten), m.bs);
+  m.close();
+  m.writing.get();
+  m.file->commit();
+}
+
+BlockSystem read_blocks(const fs::path& in) {
+  const h5::File f = h5::File::open(in, {in.string(), kBlocksFix});
+  expect_kind(f.root(), FileKind::blocks);
+  BlockSystem bs;
+  bs.joints = read_joint_groups(f.root());
+  bs.blocks = read_blocks_group(f.root(), bs.pruned);
+  if (f.root().exists("geometry")) {
+    try {
+      bs.geometry = read_geometry_group(f.root(), bs.blocks);
+    } catch (const Error& e) {  // slice-vertices wrote /geometry, not slice-cut
+      if (e.fix() != kBlocksFix) throw;
+      throw Error(e.where(), e.problem(), kGeometryFix);
+    }
+  }
+  check_blocks(Checker(in.string(), kBlocksFix), bs, false);
+  if (bs.geometry) check_geometry(Checker(in.string(), kGeometryFix), bs);
+  return bs;
+}
+
+}  // namespace slice

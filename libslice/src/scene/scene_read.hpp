@@ -1,0 +1,120 @@
+#pragma once
+// What the readers of a scene file share (libslice/src/scene/: scene.cpp reads the file and its
+// single tables, joint_entries.cpp [[joints]] and [[sets]], zones.cpp [[zones]]): the scene's
+// schema, the keys of each table, and the context every entry is read in (scene_common.hpp has
+// what generate.cpp needs too). Private to libslice/src/scene/.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <set>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "scene_common.hpp"
+#include "slice/mesh.hpp"
+#include "slice/polytope.hpp"
+#include "slice/scene.hpp"
+#include "slice/stochastic.hpp"
+#include "toml_read.hpp"
+
+namespace slice::scene_read {
+
+// The keys of each table of a scene file (docs/scenes.md).
+inline constexpr std::array<std::string_view, 7> kTopTables = {
+    "scene", "domain", "options", "joints", "sets", "zones", "rock"};
+inline constexpr std::array<std::string_view, 5> kSceneKeys = {"name", "seed", "tolerance",
+                                                               "max_joints", "dimension"};
+inline constexpr std::array<std::string_view, 2> kRegionKeys = {"box", "planes"};
+// A zone is a region, a tunnel or a mesh; `cut` and `stage` apply to tunnels and meshes.
+inline constexpr std::array<std::string_view, 6> kZoneKeys = {"box",  "planes", "tunnel",
+                                                              "mesh", "cut",    "stage"};
+inline constexpr std::array<std::string_view, 6> kTunnelKeys = {"point",  "direction", "length",
+                                                                "radius", "sides",     "outline"};
+// A tunnel's default number of sides: the 16-gon's area is 1.3 % above its inscribed circle's.
+inline constexpr std::int64_t kDefaultTunnelSides = 16;
+inline constexpr std::array<std::string_view, 2> kBoxKeys = {"min", "max"};
+inline constexpr std::array<std::string_view, 2> kPlaneKeys = {"normal", "d"};
+inline constexpr std::array<std::string_view, 6> kOptionKeys = {
+    "order", "min_inscribed_diameter", "max_aspect_ratio", "max_blocks", "fixed_faces", "slivers"};
+inline constexpr std::array<std::string_view, 13> kJointKeys = {
+    "dip",      "dip_direction", "point", "polygon", "polygon_uv", "kind",   "friction_angle",
+    "cohesion", "keep",          "stage", "limits",  "segment",    "tension"};
+inline constexpr std::array<std::string_view, 24> kSetKeys = {
+    "name",           "dip",      "dip_direction", "spacing", "offset", "kind", "keep",
+    "friction_angle", "cohesion", "fisher_kappa",  "density", "count",  "p32",  "p10",
+    "scanline",       "size",     "shape",         "aspect",  "sides",  "fit",  "rotation",
+    "stage",          "limits",   "tension"};
+// [rock]: intact rock, for the contacts DEM exports put through rock bridges (RockSpec).
+inline constexpr std::array<std::string_view, 3> kRockKeys = {"friction_angle", "cohesion",
+                                                              "tension"};
+// The intensity keys of a set, in the order of SetIntensity: exactly one is given.
+inline constexpr std::array<std::string_view, 5> kIntensityKeys = {"spacing", "density", "count",
+                                                                   "p32", "p10"};
+// Keys that only finite (sized) joints of a stochastic set take.
+inline constexpr std::array<std::string_view, 5> kFiniteKeys = {"shape", "aspect", "sides", "fit",
+                                                                "rotation"};
+inline constexpr std::array<std::string_view, 2> kScanlineKeys = {"from", "to"};
+// The keys of `size` for each distribution (SizeDistribution order; "none" takes none).
+inline constexpr std::array<std::string_view, 2> kFixedKeys = {"distribution", "value"};
+inline constexpr std::array<std::string_view, 3> kLognormalKeys = {"distribution", "mean", "sd"};
+inline constexpr std::array<std::string_view, 2> kExponentialKeys = {"distribution", "mean"};
+inline constexpr std::array<std::string_view, 4> kPowerLawKeys = {"distribution", "exponent", "min",
+                                                                  "max"};
+// Distributions a scene may name (SizeDistribution without "none").
+inline constexpr std::array<std::string_view, 4> kSizeNames = {"fixed", "lognormal", "exponential",
+                                                               "power-law"};
+// More corners than this is a slip (a polygon is meant, not a circle drawn point by point).
+inline constexpr std::int64_t kMaxSides = 1000;
+
+inline constexpr std::array<std::string_view, 2> kKeepNames = {"above", "below"};
+
+// ---------------------------------------------------------------------------------------------
+// Regions (domain, zones): scene.cpp
+
+// The region of a table with `box` or `planes` (its keys already checked).
+Region region_of(const Tbl& t, int dimension);
+
+// The context every [[joints]], [[sets]] and [[zones]] entry is read in.
+struct Context {
+  const Reader& r;
+  int dimension = 3;
+  RegionAnalysis domain_info;
+  double rel_tol = 1e-9;
+  DomainBox box{};  // the domain as the joint generator sees it
+  std::int64_t max_joints = kDefaultMaxJoints;
+  std::filesystem::path dir{};  // the scene file's directory: relative mesh paths start there
+  double tol() const { return rel_tol * domain_info.length_scale; }
+};
+
+// An entry's place in the sequence: `stage` (a whole number >= 1, default 1) and its line.
+EntryPlace read_place(const Reader& r, const toml::table& t, const std::string& ctx,
+                      std::int64_t entry);
+
+// ---------------------------------------------------------------------------------------------
+// Entries: joint_entries.cpp, zones.cpp
+
+Joint read_joint(const Context& cx, const toml::table& tt, std::size_t index);
+// `names`: the names of the sets before it (two sets may not share one).
+JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t index,
+                      std::set<std::string>& names);
+
+// What a [[zones]] entry makes: removal regions and, for a tunnel with cut = true, the
+// construction joints along its surface, all introduced at `place`.
+struct ZoneEntry {
+  std::vector<Region> regions;
+  std::optional<TriangleMesh> mesh;
+  std::filesystem::path mesh_file;
+  std::vector<Joint> joints;
+  EntryPlace place;
+};
+
+// A [[zones]] entry: box, planes, tunnel or mesh (zones.cpp).
+ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
+                    std::int64_t default_stage, std::int64_t entry);
+
+}  // namespace slice::scene_read
