@@ -46,9 +46,16 @@ bool faces_miss_polygon(std::span<const Face> faces, const Plane& plane,
                         std::span<const Vec3> polygon, const Vec3& lo, const Vec3& hi,
                         double margin, ClipScratch& scratch);
 
+/// Some of `points` lie below the plane and some above, farther than `margin`: if they are
+/// points of the block, the plane meets it, and faces_miss_polygon cannot settle a persistent
+/// joint (for a polygon this says nothing).
+bool plane_splits_points(const Plane& plane, std::span<const Vec3> points, double margin);
+
 /// The tests in order of cost: the plane against the box, the polygon's box against the box, the
-/// polygon against the faces. The first that settles the pair, or none.
+/// polygon against the faces (for a persistent joint, unless its plane splits `inside`, points
+/// of the block such as its extremes). The first that settles the pair, or none.
 CutReject reject_cut(std::span<const Face> faces, const Plane& plane, std::span<const Vec3> polygon,
-                     const Vec3& lo, const Vec3& hi, double margin, ClipScratch& scratch);
+                     const Vec3& lo, const Vec3& hi, std::span<const Vec3> inside, double margin,
+                     ClipScratch& scratch);
 
 }  // namespace slice

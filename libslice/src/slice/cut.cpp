@@ -346,7 +346,8 @@ class Subdivision {
     const double magnitude =
         std::max(b.origin.cwiseAbs().maxCoeff(), pj.centre.cwiseAbs().maxCoeff() + pj.radius) +
         b.bsphere[3];
-    return reject_cut(b.faces, plane, corners_, lo, hi, reject_margin(ctx_.tol, magnitude), clip_);
+    return reject_cut(b.faces, plane, corners_, lo, hi, x, reject_margin(ctx_.tol, magnitude),
+                      clip_);
   }
 
   void check_max_blocks(std::size_t cut) {

@@ -88,11 +88,24 @@ bool faces_miss_polygon(std::span<const Face> faces, const Plane& plane,
   return false;
 }
 
+bool plane_splits_points(const Plane& plane, std::span<const Vec3> points, double margin) {
+  bool below = false, above = false;
+  for (const Vec3& x : points) {
+    const double d = plane.distance(x);
+    below = below || d < -margin;
+    above = above || d > margin;
+  }
+  return below && above;
+}
+
 CutReject reject_cut(std::span<const Face> faces, const Plane& plane, std::span<const Vec3> polygon,
-                     const Vec3& lo, const Vec3& hi, double margin, ClipScratch& scratch) {
+                     const Vec3& lo, const Vec3& hi, std::span<const Vec3> inside, double margin,
+                     ClipScratch& scratch) {
   if (plane_misses_box(plane, lo, hi, margin)) return CutReject::plane;
   if (polygon_misses_box(polygon, lo, hi, margin)) return CutReject::box;
-  if (faces_miss_polygon(faces, plane, polygon, lo, hi, margin, scratch)) return CutReject::faces;
+  if (!(polygon.empty() && plane_splits_points(plane, inside, margin)) &&
+      faces_miss_polygon(faces, plane, polygon, lo, hi, margin, scratch))
+    return CutReject::faces;
   return CutReject::none;
 }
 
