@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "slice/h5io.hpp"
+#include "support/compare.hpp"
 #include "support/pipeline.hpp"
 #include "support/support.hpp"
 
@@ -190,20 +191,7 @@ TEST_CASE("slice-cut --no-shortcuts gives the same blocks with every pair to the
   REQUIRE(with.exit_code == 0);
   CHECK_THAT(with.err, Catch::Contains("settled without an LP"));
   REQUIRE(run_tool("slice-cut", {joints, "-o", b, "--stats", sb, "--no-shortcuts"}).exit_code == 0);
-  const auto x = slice::read_blocks(a), y = slice::read_blocks(b);
-  REQUIRE(x.blocks.size() == y.blocks.size());
-  for (std::size_t i = 0; i < x.blocks.size(); ++i) {
-    CAPTURE(i);
-    CHECK(x.blocks[i].origin == y.blocks[i].origin);
-    CHECK(x.blocks[i].bsphere == y.blocks[i].bsphere);
-    CHECK(x.blocks[i].flags == y.blocks[i].flags);
-    REQUIRE(x.blocks[i].faces.size() == y.blocks[i].faces.size());
-    for (std::size_t f = 0; f < x.blocks[i].faces.size(); ++f) {
-      CHECK(x.blocks[i].faces[f].normal == y.blocks[i].faces[f].normal);
-      CHECK(x.blocks[i].faces[f].d == y.blocks[i].faces[f].d);
-      CHECK(x.blocks[i].faces[f].joint == y.blocks[i].faces[f].joint);
-    }
-  }
+  test::check_same(slice::read_blocks(a), slice::read_blocks(b));
   const auto js = nlohmann::json::parse(test::read_bytes(sa));
   const auto jn = nlohmann::json::parse(test::read_bytes(sb));
   const std::size_t settled = js["pairs_rejected_plane"].get<std::size_t>() +

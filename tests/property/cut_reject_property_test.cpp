@@ -12,6 +12,7 @@
 #include "slice/cut_reject.hpp"
 #include "slice/lp.hpp"
 #include "slice/scene.hpp"
+#include "support/compare.hpp"
 #include "support/lp_cases.hpp"
 #include "support/support.hpp"
 
@@ -37,15 +38,6 @@ const char* to_string(Shape s) {
                                    "edge on face", "on face", "near face"};
   return names[static_cast<int>(s)];
 }
-constexpr Variant kVariants[] = {Variant::base, Variant::offset, Variant::small, Variant::large};
-constexpr PlaneKind kKinds[] = {PlaneKind::interior, PlaneKind::vertex,    PlaneKind::edge,
-                                PlaneKind::face,     PlaneKind::near_face, PlaneKind::near_touch,
-                                PlaneKind::miss};
-
-std::uint64_t mix(std::uint64_t seed, std::uint64_t i) {
-  return seed ^ (i * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull);
-}
-
 /// A joint in the block's frame: its plane and its corners (counter-clockwise about the
 /// normal; none: persistent).
 struct JointCase {
@@ -353,22 +345,7 @@ void check_same_blocks(const std::string& scene, std::size_t& lps_with, std::siz
   slice::CutOptions with, without;
   without.use_shortcuts = false;
   const auto a = slice::cut_blocks(js, with), b = slice::cut_blocks(js, without);
-  REQUIRE(a.blocks.blocks.size() == b.blocks.blocks.size());
-  for (std::size_t i = 0; i < a.blocks.blocks.size(); ++i) {
-    const slice::Block &x = a.blocks.blocks[i], &y = b.blocks.blocks[i];
-    CAPTURE(i);
-    CHECK(x.origin == y.origin);
-    CHECK(x.bsphere == y.bsphere);
-    CHECK(x.inradius == y.inradius);
-    CHECK(x.flags == y.flags);
-    CHECK(x.cluster == y.cluster);
-    REQUIRE(x.faces.size() == y.faces.size());
-    for (std::size_t f = 0; f < x.faces.size(); ++f) {
-      CHECK(x.faces[f].normal == y.faces[f].normal);
-      CHECK(x.faces[f].d == y.faces[f].d);
-      CHECK(x.faces[f].joint == y.faces[f].joint);
-    }
-  }
+  test::check_same(a.blocks, b.blocks);
   CHECK(a.stats.splits == b.stats.splits);
   CHECK(a.stats.splits_undone == b.stats.splits_undone);
   CHECK(a.stats.pairs_skipped == b.stats.pairs_skipped);
