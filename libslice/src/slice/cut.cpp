@@ -191,6 +191,8 @@ class Subdivision {
     grid_ = SphereGrid();
     std::vector<std::uint32_t>().swap(stamp_);
     std::vector<std::size_t>().swap(candidates_);
+    std::vector<Vec3>().swap(corners_);
+    clip_ = ClipScratch();
   }
   /// Frees the blocks (handed to child tasks) and the index; size() keeps their number.
   void release() {
