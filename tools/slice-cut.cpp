@@ -15,13 +15,16 @@ int main(int argc, char** argv) {
                "Cut the domain of a joints.h5 file into convex blocks, one LP per decision."};
   std::string in, out = "blocks.h5", backend = "native";
   std::string stats_file;
-  bool prune = false, no_index = false, certify = false;
+  bool prune = false, no_index = false, no_shortcuts = false, certify = false;
   t.cli.add_option("joints", in, "joints.h5 from slice-joints")->required();
   t.cli.add_option("-o,--output", out, "output file")->capture_default_str();
   t.cli.add_option("--lp", backend, "LP backend: native | ipopt | exact")->capture_default_str();
   t.cli.add_flag("--prune", prune, "also drop redundant faces (as slice-prune does)");
   t.cli.add_flag("--no-index", no_index,
                  "test every block against every joint (no bounding spheres or grid)");
+  t.cli.add_flag("--no-shortcuts", no_shortcuts,
+                 "give every joint-block pair the index passes to the cut LP (no geometric "
+                 "rejection first; the same blocks)");
   t.cli.add_option("--stats", stats_file, "also write the run's figures as JSON to this file");
   t.cli.add_flag("--certify", certify,
                  "decide again with the exact backend every cut, size/shape limit, contact and "
@@ -39,6 +42,7 @@ int main(int argc, char** argv) {
     slice::CutOptions opt;
     opt.backend = slice::parse_lp_backend(backend);
     opt.use_index = !no_index;
+    opt.use_shortcuts = !no_shortcuts;
     opt.max_blocks = max_blocks;
     opt.certify = certify;
     opt.threads = t.threads;
@@ -60,6 +64,9 @@ int main(int argc, char** argv) {
                                         {"splits", s.splits},
                                         {"splits_undone", s.splits_undone},
                                         {"pairs_skipped", s.pairs_skipped},
+                                        {"pairs_rejected_plane", s.rejected_plane},
+                                        {"pairs_rejected_box", s.rejected_box},
+                                        {"pairs_rejected_faces", s.rejected_faces},
                                         {"slivers_removed", s.slivers_removed},
                                         {"slivers_joined", s.slivers_joined},
                                         {"slivers_left", s.slivers_left},
@@ -89,7 +96,10 @@ int main(int argc, char** argv) {
           out);
     t.say("splits " + std::to_string(s.splits) + ", undone by size/shape limits " +
           std::to_string(s.splits_undone) + "; joint-block pairs skipped by the index " +
-          std::to_string(s.pairs_skipped));
+          std::to_string(s.pairs_skipped) + ", settled without an LP " +
+          std::to_string(s.rejected_plane + s.rejected_box + s.rejected_faces) + " (plane " +
+          std::to_string(s.rejected_plane) + ", polygon box " + std::to_string(s.rejected_box) +
+          ", faces " + std::to_string(s.rejected_faces) + ")");
     if (s.slivers_removed + s.slivers_joined + s.slivers_left > 0)
       t.say("slivers (free blocks under the size/shape limits, left by exempt cuts): " +
             std::to_string(s.slivers_removed) + " removed with the excavation they touch, " +

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "slice/h5io.hpp"
+#include "support/compare.hpp"
 #include "support/pipeline.hpp"
 #include "support/support.hpp"
 
@@ -175,4 +176,33 @@ TEST_CASE("slice-cut writes the same bytes with the AVX2 and the portable LP ker
     CHECK(slice::read_blocks(out).blocks.size() > 100);
     CHECK(test::read_bytes(out) == avx2);
   }
+}
+
+TEST_CASE("slice-cut --no-shortcuts gives the same blocks with every pair to the cut LP",
+          "[tools][cut][reject]") {
+  // genesis-limestone: stochastic polygon sets. The shortcuts (cut_reject.hpp) settle most pairs
+  // past the index without an LP; the blocks must be the same, value for value.
+  test::TempDir tmp;
+  const auto joints = test::run_pipeline(tmp, "genesis-limestone.toml", test::Stage::joints);
+  const auto a = (tmp / "a.h5").string(), b = (tmp / "b.h5").string();
+  const auto sa = (tmp / "a.json").string(), sb = (tmp / "b.json").string();
+  const auto with = run_tool("slice-cut", {joints, "-o", a, "--stats", sa});
+  INFO(with.err);
+  REQUIRE(with.exit_code == 0);
+  CHECK_THAT(with.err, Catch::Contains("settled without an LP"));
+  REQUIRE(run_tool("slice-cut", {joints, "-o", b, "--stats", sb, "--no-shortcuts"}).exit_code == 0);
+  test::check_same(slice::read_blocks(a), slice::read_blocks(b));
+  const auto js = nlohmann::json::parse(test::read_bytes(sa));
+  const auto jn = nlohmann::json::parse(test::read_bytes(sb));
+  const std::size_t settled = js["pairs_rejected_plane"].get<std::size_t>() +
+                              js["pairs_rejected_box"].get<std::size_t>() +
+                              js["pairs_rejected_faces"].get<std::size_t>();
+  CHECK(settled > 0);
+  CHECK(jn["pairs_rejected_plane"] == 0);
+  CHECK(jn["pairs_rejected_box"] == 0);
+  CHECK(jn["pairs_rejected_faces"] == 0);
+  CHECK(js["pairs_skipped"] == jn["pairs_skipped"]);
+  CHECK(js["lps_cut_test"].get<std::size_t>() + settled == jn["lps_cut_test"].get<std::size_t>());
+  // Issue 29's goal: at most 10 cut LPs per split (here: one per cut the LP makes, kept or not).
+  CHECK(js["lps_cut_test"].get<std::size_t>() <= 10 * js["splits"].get<std::size_t>());
 }

@@ -36,15 +36,6 @@ constexpr double kIpoptCutRelErr = 5e-10;
 constexpr double kIpoptRelErr = 1e-8;
 constexpr double kRelTol = 1e-9;  // Tolerances::from_scale(L, 1e-9): cut = prune = 1e-9 L
 
-constexpr Variant kVariants[] = {Variant::base, Variant::offset, Variant::small, Variant::large};
-constexpr PlaneKind kKinds[] = {PlaneKind::interior, PlaneKind::vertex,    PlaneKind::edge,
-                                PlaneKind::face,     PlaneKind::near_face, PlaneKind::near_touch,
-                                PlaneKind::miss};
-
-std::uint64_t mix(std::uint64_t seed, std::uint64_t i) {
-  return seed ^ (i * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull);
-}
-
 Face present(const Face& f, Variant v) {
   if (v == Variant::offset) {
     const Plane p =

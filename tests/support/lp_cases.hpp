@@ -216,6 +216,17 @@ inline double variant_scale(Variant v) {
   return v == Variant::small ? 1e-3 : v == Variant::large ? 1e3 : 1.0;
 }
 
+inline constexpr Variant kVariants[] = {Variant::base, Variant::offset, Variant::small,
+                                        Variant::large};
+inline constexpr PlaneKind kKinds[] = {
+    PlaneKind::interior,  PlaneKind::vertex,     PlaneKind::edge, PlaneKind::face,
+    PlaneKind::near_face, PlaneKind::near_touch, PlaneKind::miss};
+
+/// A seed for case i of a run seeded with `seed` (the cases' streams do not overlap).
+inline std::uint64_t mix(std::uint64_t seed, std::uint64_t i) {
+  return seed ^ (i * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull);
+}
+
 /// The block origin used for the offset variant (UTM-like coordinates).
 inline const Vec3 kOffsetOrigin(512345.678, 5123456.789, 312.5);
 

@@ -18,6 +18,11 @@ struct CutOptions {
   /// (eq. 17, Fig. 18). false runs the cut LP on every block for every joint: slower, same
   /// blocks; for tests and the scaling benchmark.
   bool use_index = true;
+  /// With the index: a pair geometry settles (the plane misses the block's box, the polygon's
+  /// box misses it, the polygon clipped by its faces is empty; cut_reject.hpp) needs no cut
+  /// LP. false gives every pair the index passes to the LP: slower, same blocks; for tests and
+  /// benchmarks.
+  bool use_shortcuts = true;
   /// The most blocks the cut may make; 0: the joint system's options.max_blocks. Checked up front
   /// against estimate_blocks (persistent joints) and after every joint (all joints).
   std::int64_t max_blocks = 0;
@@ -54,6 +59,10 @@ struct CutStats {
   std::size_t splits = 0;
   std::size_t splits_undone = 0;  // a child broke the size or shape limit: parent kept
   std::size_t pairs_skipped = 0;  // joint-block pairs the spheres and the grid ruled out
+  // Pairs past them that geometry settled without the cut LP (CutOptions::use_shortcuts), by the
+  // test that did: the plane against the block's box, the polygon's box against it, the
+  // polygon clipped by the block's faces.
+  std::size_t rejected_plane = 0, rejected_box = 0, rejected_faces = 0;
   std::size_t boundary = 0, removed = 0, clusters = 0;
   std::size_t fixed = 0;  // blocks on a face named in [options] fixed_faces
   // Slivers: free blocks (kept, in no cluster) under the size or shape limits, left by cuts

@@ -28,6 +28,7 @@
 
 #include "../threads.hpp"
 #include "bodies.hpp"
+#include "slice/cut_reject.hpp"
 #include "slice/decide.hpp"
 #include "slice/error.hpp"
 #include "slice/estimate.hpp"
@@ -46,8 +47,9 @@ double seconds_since(Clock::time_point t0) {
 
 /// A joint prepared for cutting: its polygon in global coordinates and its bounding sphere.
 struct PreparedJoint {
-  Plane plane;               // global
-  std::vector<Plane> edges;  // polygon edges as in-plane half-planes (global), empty: persistent
+  Plane plane;                // global
+  std::vector<Plane> edges;   // polygon edges as in-plane half-planes (global), empty: persistent
+  std::vector<Vec3> corners;  // the polygon's corners (global), counter-clockwise about n
   Vec3 centre = Vec3::Zero();
   double radius = 0;                          // polygon's bounding sphere about centre
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // polygon's bounding box
@@ -58,7 +60,8 @@ PreparedJoint prepare(const Joint& j) {
   p.plane = j.plane;
   p.centre = j.centre;
   if (j.persistent()) return p;
-  const std::vector<Vec3> v = joint_polygon(j);
+  p.corners = joint_polygon(j);
+  const std::vector<Vec3>& v = p.corners;
   for (const Vec2& uv : j.polygon_uv) p.radius = std::max(p.radius, uv.norm());
   p.lo = p.hi = v.front();
   for (std::size_t k = 0; k < v.size(); ++k) {
@@ -188,6 +191,8 @@ class Subdivision {
     grid_ = SphereGrid();
     std::vector<std::uint32_t>().swap(stamp_);
     std::vector<std::size_t>().swap(candidates_);
+    std::vector<Vec3>().swap(corners_);
+    clip_ = ClipScratch();
   }
   /// Frees the blocks (handed to child tasks) and the index; size() keeps their number.
   void release() {
@@ -208,7 +213,8 @@ class Subdivision {
   std::vector<std::size_t> joints_that_cut;  // increasing
   LpCounts lps;
   std::size_t splits = 0, splits_undone = 0;
-  std::size_t tested = 0;  // joint-block pairs given to the cut LP
+  std::size_t tested = 0;  // joint-block pairs past the index (to the cut LP or settled)
+  std::array<std::size_t, 4> rejected{};  // pairs settled without the LP, by CutReject
 
   /// Sets the bounding sphere of a block (the root's, before a subdivision starts) and `ext`,
   /// moving its origin to the centre of its extents. A piece of a split block (`parent`: the
@@ -279,11 +285,17 @@ class Subdivision {
       if (b.flags & kBoundary) continue;  // boundary blocks are never cut again
       if (ctx_.opt.use_index && !may_reach(pj, b.bsphere, ctx_.tol.cut)) continue;
       const Plane plane = to_local(pj.plane, b.origin);
-      edges_local.clear();
-      for (const Plane& e : pj.edges) edges_local.push_back(to_local(e, b.origin));
-      const CutTest t = referee.cut(b.faces, plane, edges_local);
-      ++lps.cut_test;
       ++tested;
+      const CutReject settled = reject(pj, i, plane);
+      if (settled != CutReject::none) ++rejected[std::size_t(settled)];
+      CutTest t;  // no cut, when geometry settled it
+      t.status = LpStatus::optimal;
+      if (settled == CutReject::none) {
+        edges_local.clear();
+        for (const Plane& e : pj.edges) edges_local.push_back(to_local(e, b.origin));
+        t = referee.cut(b.faces, plane, edges_local);
+        ++lps.cut_test;
+      }
       if (t.status != LpStatus::optimal) {
         ++lps.failed;  // the paper's "self-defence": no new data structure
         continue;
@@ -317,6 +329,28 @@ class Subdivision {
   std::size_t grid_built_for_ = 0;
   std::vector<std::uint32_t> stamp_;  // last joint (+1) that visited a block in the grid
   std::vector<std::size_t> candidates_;
+
+  std::vector<Vec3> corners_;  // a joint's corners in a block's frame
+  ClipScratch clip_;
+
+  /// Whether geometry proves, without the cut LP, that joint `pj` does not cut block i
+  /// (cut_reject.hpp): its box is the extents the block's extremes reach. Not in a 2-D section
+  /// (its blocks are unbounded in y), nor without the index (every pair then goes to the LP).
+  CutReject reject(const PreparedJoint& pj, std::size_t i, const Plane& plane) {
+    if (!ctx_.opt.use_index || !ctx_.opt.use_shortcuts || ctx_.tol.dimension != 3)
+      return CutReject::none;
+    const Block& b = blocks[i];
+    const auto& x = extremes[i].x;
+    const Vec3 hi(x[0][0], x[2][1], x[4][2]), lo(x[1][0], x[3][1], x[5][2]);
+    corners_.clear();
+    for (const Vec3& c : pj.corners) corners_.push_back(c - b.origin);
+    // The largest coordinate a corner, the plane's point or the block reaches (global frame).
+    const double magnitude =
+        std::max(b.origin.cwiseAbs().maxCoeff(), pj.centre.cwiseAbs().maxCoeff() + pj.radius) +
+        b.bsphere[3];
+    return reject_cut(b.faces, plane, corners_, lo, hi, x, reject_margin(ctx_.tol, magnitude),
+                      clip_);
+  }
 
   void check_max_blocks(std::size_t cut) {
     // Tasks run in any order: which joint passes the limit first is not defined, so it is not
@@ -639,6 +673,9 @@ class Cutter {
       stats_.splits += s.splits;
       stats_.splits_undone += s.splits_undone;
       stats_.pairs_skipped -= s.tested;
+      stats_.rejected_plane += s.rejected[std::size_t(CutReject::plane)];
+      stats_.rejected_box += s.rejected[std::size_t(CutReject::box)];
+      stats_.rejected_faces += s.rejected[std::size_t(CutReject::faces)];
       for (const std::size_t j : s.joints_that_cut) cut[j] = 1;
       for (const SplitEvent& e : s.events) ++splits_at[e.joint];
     }

@@ -1,0 +1,61 @@
+#pragma once
+// Joint-block pairs that geometry settles without the cut test's LP (src/slice/cut_reject.cpp;
+// issue 29). A joint cuts a block only if some point of its polygon (of its plane, for a
+// persistent joint) lies more than tol.cut inside every face of the block: the cut test's LP
+// (lp.hpp, cut_test) finds s* < -tol.cut. Each test here proves the opposite, that the polygon
+// misses the block by more than `margin` (reject_margin), so that s* > 0 and every backend, far
+// from its threshold, answers "no cut". A test that cannot prove it answers false and the LP
+// decides: the blocks are those the LPs alone make.
+//
+// Everything is in the block's frame: the faces, the box [lo, hi] that holds the block (its
+// extents), the joint's plane and its polygon's corners (counter-clockwise about the plane's
+// normal, or none for a persistent joint).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "slice/geometry.hpp"
+#include "slice/tolerance.hpp"
+
+namespace slice {
+
+/// Which test settled a pair (none: the cut LP decides).
+enum class CutReject : std::uint8_t { none, plane, box, faces };
+
+/// The margin the tests keep: the cut tolerance, and 64 rounding errors of the coordinates
+/// involved (up to `magnitude` in the global frame), which moving planes and corners between
+/// the global and the block frame may cost.
+double reject_margin(const Tolerances& tol, double magnitude);
+
+/// The plane misses the box [lo, hi] grown by `margin`: no corner of the box is on its side.
+bool plane_misses_box(const Plane& plane, const Vec3& lo, const Vec3& hi, double margin);
+
+/// The polygon's own bounding box misses the box [lo, hi] grown by `margin` (no polygon: false).
+bool polygon_misses_box(std::span<const Vec3> polygon, const Vec3& lo, const Vec3& hi,
+                        double margin);
+
+/// Buffers faces_miss_polygon reuses between calls (no allocation once grown).
+struct ClipScratch {
+  std::vector<Vec3> a, b;
+  std::vector<double> dist;
+};
+
+/// The polygon (a persistent joint: its plane's part inside the box [lo, hi]) clipped by every
+/// face grown by `margin` is empty (Sutherland-Hodgman): no point of it is inside the block.
+bool faces_miss_polygon(std::span<const Face> faces, const Plane& plane,
+                        std::span<const Vec3> polygon, const Vec3& lo, const Vec3& hi,
+                        double margin, ClipScratch& scratch);
+
+/// Some of `points` lie below the plane and some above, farther than `margin`: if they are
+/// points of the block, the plane meets it, and faces_miss_polygon cannot settle a persistent
+/// joint (for a polygon this says nothing).
+bool plane_splits_points(const Plane& plane, std::span<const Vec3> points, double margin);
+
+/// The tests in order of cost: the plane against the box, the polygon's box against the box, the
+/// polygon against the faces (for a persistent joint, unless its plane splits `inside`, points
+/// of the block such as its extremes). The first that settles the pair, or none.
+CutReject reject_cut(std::span<const Face> faces, const Plane& plane, std::span<const Vec3> polygon,
+                     const Vec3& lo, const Vec3& hi, std::span<const Vec3> inside, double margin,
+                     ClipScratch& scratch);
+
+}  // namespace slice

@@ -1,0 +1,112 @@
+#include "slice/cut_reject.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace slice {
+namespace {
+
+enum class Clip { empty, whole, part };
+
+/// Clips the convex polygon `from` by the half-space n . x <= d (Sutherland-Hodgman): a corner on
+/// the plane is kept. Writes `to` only when part of the polygon is left (Clip::part).
+Clip clip(const std::vector<Vec3>& from, std::vector<Vec3>& to, std::vector<double>& dist,
+          const Vec3& n, double d) {
+  const std::size_t k = from.size();
+  dist.resize(k);
+  std::size_t inside = 0;
+  for (std::size_t i = 0; i < k; ++i) {
+    dist[i] = n.dot(from[i]) - d;
+    inside += dist[i] <= 0 ? 1 : 0;
+  }
+  if (inside == 0) return Clip::empty;
+  if (inside == k) return Clip::whole;
+  to.clear();
+  for (std::size_t i = 0; i < k; ++i) {
+    const std::size_t j = i + 1 == k ? 0 : i + 1;
+    const double da = dist[i], db = dist[j];
+    if (da <= 0) to.push_back(from[i]);
+    if ((da <= 0) != (db <= 0)) to.push_back(from[i] + (da / (da - db)) * (from[j] - from[i]));
+  }
+  return Clip::part;
+}
+
+/// A square in the plane, centred at the foot of the box's centre, holding the plane's part of
+/// the box grown by `margin` (every such point is within the box's half diagonal plus margin
+/// of the centre, so of its foot).
+void plane_square(const Plane& plane, const Vec3& lo, const Vec3& hi, double margin,
+                  std::vector<Vec3>& out) {
+  const Vec3& n = plane.normal;
+  const Vec3 c = 0.5 * (lo + hi);
+  const Vec3 p = c - plane.distance(c) * n;
+  int k = 0;  // the axis least aligned with n
+  if (std::abs(n.y()) < std::abs(n[k])) k = 1;
+  if (std::abs(n.z()) < std::abs(n[k])) k = 2;
+  const Vec3 u = n.cross(Vec3::Unit(k)).normalized();
+  const Vec3 v = n.cross(u);
+  const double r = 2 * (0.5 * (hi - lo).norm() + margin);
+  out.assign({p + r * (u + v), p + r * (v - u), p - r * (u + v), p + r * (u - v)});
+}
+
+}  // namespace
+
+double reject_margin(const Tolerances& tol, double magnitude) {
+  return tol.cut + 64 * std::numeric_limits<double>::epsilon() * magnitude;
+}
+
+bool plane_misses_box(const Plane& plane, const Vec3& lo, const Vec3& hi, double margin) {
+  const Vec3 c = 0.5 * (lo + hi);
+  const Vec3 h = 0.5 * (hi - lo);
+  return std::abs(plane.distance(c)) > plane.normal.cwiseAbs().dot(h) + margin;
+}
+
+bool polygon_misses_box(std::span<const Vec3> polygon, const Vec3& lo, const Vec3& hi,
+                        double margin) {
+  if (polygon.empty()) return false;
+  Vec3 plo = polygon.front(), phi = polygon.front();
+  for (const Vec3& x : polygon) {
+    plo = plo.cwiseMin(x);
+    phi = phi.cwiseMax(x);
+  }
+  return (plo.array() > hi.array() + margin).any() || (phi.array() < lo.array() - margin).any();
+}
+
+bool faces_miss_polygon(std::span<const Face> faces, const Plane& plane,
+                        std::span<const Vec3> polygon, const Vec3& lo, const Vec3& hi,
+                        double margin, ClipScratch& s) {
+  if (polygon.empty())
+    plane_square(plane, lo, hi, margin, s.a);
+  else
+    s.a.assign(polygon.begin(), polygon.end());
+  for (const Face& f : faces) {
+    const Clip c = clip(s.a, s.b, s.dist, f.normal, f.d + margin);
+    if (c == Clip::empty) return true;
+    if (c == Clip::part) std::swap(s.a, s.b);
+  }
+  return false;
+}
+
+bool plane_splits_points(const Plane& plane, std::span<const Vec3> points, double margin) {
+  bool below = false, above = false;
+  for (const Vec3& x : points) {
+    const double d = plane.distance(x);
+    below = below || d < -margin;
+    above = above || d > margin;
+  }
+  return below && above;
+}
+
+CutReject reject_cut(std::span<const Face> faces, const Plane& plane, std::span<const Vec3> polygon,
+                     const Vec3& lo, const Vec3& hi, std::span<const Vec3> inside, double margin,
+                     ClipScratch& scratch) {
+  if (plane_misses_box(plane, lo, hi, margin)) return CutReject::plane;
+  if (polygon_misses_box(polygon, lo, hi, margin)) return CutReject::box;
+  if (!(polygon.empty() && plane_splits_points(plane, inside, margin)) &&
+      faces_miss_polygon(faces, plane, polygon, lo, hi, margin, scratch))
+    return CutReject::faces;
+  return CutReject::none;
+}
+
+}  // namespace slice

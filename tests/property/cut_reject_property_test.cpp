@@ -1,0 +1,388 @@
+// The cut's geometric shortcuts (slice/cut_reject.hpp) against the exact cut LP, on random
+// blocks and joints, degenerate ones included, and on whole random and degenerate scenes cut
+// with and without them. Fixed seeds; SLICE_PROPERTY_SCALE (support.hpp) runs a share.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "slice/cut.hpp"
+#include "slice/cut_reject.hpp"
+#include "slice/lp.hpp"
+#include "slice/scene.hpp"
+#include "support/compare.hpp"
+#include "support/lp_cases.hpp"
+#include "support/support.hpp"
+
+namespace {
+
+using namespace test::lp;
+using slice::CutReject;
+using slice::LpBackend;
+using slice::LpStatus;
+
+constexpr std::uint64_t kSeed = 29029;  // issue 29, nothing more
+constexpr double kRelTol = 1e-9;        // Tolerances::from_scale(L, 1e-9), as the scenes
+
+// How a joint meets its block. The last four are the degenerate ones: a polygon with a corner
+// at a vertex of the block, with an edge on the plane of a face, lying in a face's plane, and in
+// a plane a hair (1e-13 to 1e-5 L) inside or outside a face.
+enum class Shape { persistent, polygon, through_vertex, edge_on_face, on_face, near_face };
+constexpr Shape kShapes[] = {Shape::persistent,   Shape::polygon, Shape::through_vertex,
+                             Shape::edge_on_face, Shape::on_face, Shape::near_face};
+constexpr int kShapeCount = 6;
+const char* to_string(Shape s) {
+  constexpr const char* names[] = {"persistent",   "polygon", "through vertex",
+                                   "edge on face", "on face", "near face"};
+  return names[static_cast<int>(s)];
+}
+/// A joint in the block's frame: its plane and its corners (counter-clockwise about the
+/// normal; none: persistent).
+struct JointCase {
+  Plane plane;
+  std::vector<Vec3> corners;
+};
+
+/// The regular k-gon in the plane of unit normal n with centre c and first corner `first`,
+/// counter-clockwise about n.
+std::vector<Vec3> regular_polygon(const Vec3& n, const Vec3& c, const Vec3& first, int k) {
+  const Vec3 a = first - c, b = n.cross(a);
+  std::vector<Vec3> out;
+  for (int i = 0; i < k; ++i) {
+    const double phi = 2 * std::numbers::pi * i / k;
+    out.push_back(i == 0 ? first : Vec3(c + std::cos(phi) * a + std::sin(phi) * b));
+  }
+  return out;
+}
+
+/// A face through vertex v, and v (the block's vertices are enumerated).
+std::pair<const Face*, const Vertex*> face_at_vertex(Rng& rng, const RandomBlock& b) {
+  const Vertex& v = b.vertices[static_cast<std::size_t>(rng.index(int(b.vertices.size())))];
+  const int f = v.faces[static_cast<std::size_t>(rng.index(int(v.faces.size())))];
+  return {&b.faces[static_cast<std::size_t>(f)], &v};
+}
+
+JointCase make_joint(Rng& rng, const RandomBlock& b, Shape shape, PlaneKind kind) {
+  JointCase j;
+  const double size = b.radius * rng.log_uniform(-1.5, 0.5);
+  const int k = 3 + rng.index(6);
+  switch (shape) {
+    case Shape::persistent:
+      j.plane = random_plane(rng, b, kind, 1.0);
+      break;
+    case Shape::polygon: {
+      j.plane = random_plane(rng, b, kind, 1.0);
+      const Vec3& n = j.plane.normal;
+      const Vec3 foot = b.centre - j.plane.distance(b.centre) * n;
+      const Vec3 c = foot + b.radius * rng.uniform(0, 2.5) * rng.perpendicular(n);
+      j.corners = regular_polygon(n, c, c + size * rng.perpendicular(n), k);
+      break;
+    }
+    case Shape::through_vertex: {
+      const Vec3& v = b.vertices[static_cast<std::size_t>(rng.index(int(b.vertices.size())))].x;
+      const Vec3 n = rng.unit_vector();
+      j.plane = {n, n.dot(v)};
+      j.corners = regular_polygon(n, v + size * rng.perpendicular(n), v, k);
+      break;
+    }
+    case Shape::edge_on_face: {
+      // A rectangle whose first edge lies on a line of the face's plane through a vertex, in a
+      // plane turned about that line; the sign of the normal puts it on either side.
+      const auto [f, v] = face_at_vertex(rng, b);
+      const Vec3 t = rng.perpendicular(f->normal);
+      const Vec3 n = rng.perpendicular(t) * (rng.chance(0.5) ? 1 : -1);
+      const Vec3 w = n.cross(t);
+      const double lo = -size * rng.uniform(), hi = size * rng.uniform(0.1, 1);
+      const double h = size * rng.uniform(0.1, 1);
+      j.plane = {n, n.dot(v->x)};
+      j.corners = {v->x + lo * t, v->x + hi * t, v->x + hi * t + h * w, v->x + lo * t + h * w};
+      break;
+    }
+    case Shape::on_face:
+    case Shape::near_face: {
+      const auto [f, v] = face_at_vertex(rng, b);
+      const double sign = rng.chance(0.5) ? 1 : -1;
+      const double shift =
+          shape == Shape::on_face ? 0 : rng.log_uniform(-13, -5) * (rng.chance(0.5) ? 1 : -1);
+      const Vec3 n = sign * f->normal;
+      j.plane = {n, sign * (f->d + shift)};
+      const Vec3 foot = v->x + shift * f->normal;
+      const Vec3 c = foot + size * rng.uniform(0, 1.5) * rng.perpendicular(n);
+      j.corners = regular_polygon(n, c, c + size * rng.perpendicular(n), k);
+      break;
+    }
+  }
+  return j;
+}
+
+/// What cut.cpp hands the shortcuts and the LP: the joint moved to the global frame (at the
+/// offset, or scaled) and back to the block's, its edges made from its global corners as
+/// cut.cpp's prepare makes them, and the margin for the coordinates' size.
+struct Presented {
+  Plane plane;
+  std::vector<Vec3> corners;
+  std::vector<Plane> edges;
+  double magnitude = 0;
+};
+
+Presented present_joint(const JointCase& j, Variant v) {
+  const Vec3 origin = v == Variant::offset ? kOffsetOrigin : Vec3::Zero();
+  const double s = variant_scale(v);
+  const Plane global = slice::to_global({j.plane.normal, s * j.plane.d}, origin);
+  Presented p;
+  p.plane = slice::to_local(global, origin);
+  p.magnitude = std::max(origin.cwiseAbs().maxCoeff(), std::abs(global.d));
+  std::vector<Vec3> corners;
+  for (const Vec3& c : j.corners) corners.push_back(origin + s * c);
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    const Vec3& a = corners[k];
+    const Vec3& b = corners[(k + 1) % corners.size()];
+    const Vec3 m = (b - a).cross(global.normal).normalized();
+    p.edges.push_back(slice::to_local(Plane{m, m.dot(a)}, origin));
+    p.corners.push_back(a - origin);
+    p.magnitude = std::max(p.magnitude, a.cwiseAbs().maxCoeff());
+  }
+  return p;
+}
+
+struct Tally {
+  long cases = 0, no_cut = 0, failures = 0, splits = 0;
+  long rejected[4] = {0, 0, 0, 0};  // by plane_misses_box, polygon_misses_box, faces, reject_cut
+  std::vector<std::string> messages;
+  void fail(const std::string& m) {
+    ++failures;
+    if (messages.size() < 8) messages.push_back(m);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("no shortcut rejects a pair the exact cut LP cuts", "[property][cut][reject]") {
+  // 200 blocks of 5 to 20 faces (1 in 4 with a duplicate and a near-parallel face); on each,
+  // 4 joints of every shape, each presented in 4 variants (as made, at a 1e6 m offset, scaled
+  // by 1e-3 and 1e3): 19,200 pairs. Every test alone, and all in order, against the exact LP
+  // (and the native one: the cut must not see a shortcut's "no" where native says "cut").
+  // The faces test must also be complete: it rejects every pair whose exact s* exceeds twice
+  // the margin (the polygon then misses the block grown by it).
+  const long blocks = test::scaled_cases(200);
+  auto exact = slice::make_solver(LpBackend::exact);
+  auto native = slice::make_solver(LpBackend::native);
+  slice::ClipScratch scratch;
+  Tally by_shape[kShapeCount];
+  for (long bi = 0; bi < blocks; ++bi) {
+    Rng rng(mix(kSeed, static_cast<std::uint64_t>(bi)));
+    RandomBlock block = random_block(rng, 5 + rng.index(16), 1.0, rng.chance(0.25));
+    enumerate_vertices(block, 1.0);
+    const auto base_tol = slice::Tolerances::from_scale(1, kRelTol);
+    const slice::Extents box = slice::extents(*exact, block.faces, base_tol);
+    REQUIRE(box.status == LpStatus::optimal);
+    for (int si = 0; si < kShapeCount; ++si) {
+      const Shape shape = kShapes[si];
+      Tally& t = by_shape[si];
+      for (int rep = 0; rep < 4; ++rep) {
+        const PlaneKind kind = kKinds[static_cast<std::size_t>(bi + rep) % 7];
+        const JointCase joint = make_joint(rng, block, shape, kind);
+        for (const Variant v : kVariants) {
+          const double s = variant_scale(v);
+          const auto tol = slice::Tolerances::from_scale(s, kRelTol);
+          std::vector<Face> faces = block.faces;
+          for (Face& f : faces) f.d *= s;
+          const Vec3 lo = s * box.min, hi = s * box.max;
+          std::vector<Vec3> inside;  // points of the block, as its extremes in cut.cpp
+          for (std::size_t k = 0; k < block.vertices.size() && k < 6; ++k)
+            inside.push_back(s * block.vertices[k].x);
+          const Presented p = present_joint(joint, v);
+          const double margin =
+              slice::reject_margin(tol, p.magnitude + (hi - lo).cwiseAbs().maxCoeff());
+          const slice::CutTest ex = slice::cut_test(*exact, faces, p.plane, p.edges, tol);
+          const slice::CutTest nat = slice::cut_test(*native, faces, p.plane, p.edges, tol);
+          ++t.cases;
+          std::ostringstream what;
+          what.precision(17);
+          what << to_string(shape) << " " << to_string(kind) << " " << to_string(v) << " block "
+               << bi << " rep " << rep << ": exact s* " << ex.s << ", native s* " << nat.s;
+          if (ex.status != LpStatus::optimal || nat.status != LpStatus::optimal) {
+            t.fail(what.str() + ": LP not optimal");
+            continue;
+          }
+          t.no_cut += ex.cuts ? 0 : 1;
+          const bool said[4] = {
+              slice::plane_misses_box(p.plane, lo, hi, margin),
+              slice::polygon_misses_box(p.corners, lo, hi, margin),
+              slice::faces_miss_polygon(faces, p.plane, p.corners, lo, hi, margin, scratch),
+              slice::reject_cut(faces, p.plane, p.corners, lo, hi, inside, margin, scratch) !=
+                  CutReject::none};
+          // A plane that splits points of the block meets it: the faces test cannot settle a
+          // persistent joint then (reject_cut does not try).
+          if (p.corners.empty() && slice::plane_splits_points(p.plane, inside, margin)) {
+            ++t.splits;
+            if (said[2]) t.fail(what.str() + ": the plane splits the block, yet faces rejected");
+          }
+          constexpr const char* names[] = {"plane/box", "polygon box", "faces", "reject_cut"};
+          for (int k = 0; k < 4; ++k) {
+            if (!said[k]) continue;
+            ++t.rejected[k];
+            if (ex.cuts || nat.cuts) t.fail(what.str() + ": " + names[k] + " rejected a cut");
+          }
+          if (ex.s > 2 * margin && !said[2]) t.fail(what.str() + ": faces test missed it");
+        }
+      }
+    }
+  }
+  long rejected_total[4] = {0, 0, 0, 0}, splits_total = 0;
+  for (int si = 0; si < kShapeCount; ++si) {
+    const Tally& t = by_shape[si];
+    std::ostringstream summary;
+    summary << to_string(kShapes[si]) << ": " << t.cases << " pairs, " << t.no_cut
+            << " not cut (exact), rejected by plane/box " << t.rejected[0] << ", polygon box "
+            << t.rejected[1] << ", faces " << t.rejected[2] << ", in order " << t.rejected[3]
+            << "; splitting the block's points " << t.splits;
+    SUCCEED(summary.str());  // shown with -s
+    for (const auto& m : t.messages) summary << "\n  " << m;
+    INFO(summary.str());
+    CHECK(t.cases == blocks * 16);
+    CHECK(t.failures == 0);
+    // Every shape has pairs not cut. A polygon with a corner at a vertex or an edge on a face
+    // touches the block: within the margin, so never settled; the tests in order settle some
+    // pairs of every other shape.
+    CHECK(t.no_cut > 0);
+    const Shape shape = kShapes[si];
+    if (shape == Shape::through_vertex || shape == Shape::edge_on_face)
+      CHECK(t.rejected[3] == 0);
+    else
+      CHECK(t.rejected[3] > 0);
+    for (int k = 0; k < 4; ++k) rejected_total[k] += t.rejected[k];
+    splits_total += t.splits;
+  }
+  CHECK(splits_total > 0);
+  // Each test rejects pairs of its own (none is dead code here).
+  for (int k = 0; k < 4; ++k) CHECK(rejected_total[k] > 0);
+}
+
+namespace {
+
+/// Random polygon joints in a 4 x 3 x 2 box, dense enough that most pairs past the index are
+/// not cut: squares, 16-gons (discs) and triangles of random orientation, and a few persistent
+/// planes.
+std::string random_polygon_scene(std::uint64_t seed) {
+  Rng rng(mix(kSeed + 1, seed));
+  std::ostringstream s;
+  s.precision(17);
+  s << "[domain]\nbox = { min = [0, 0, 0], max = [4, 3, 2] }\n";
+  const int joints = 30 + rng.index(30);
+  for (int j = 0; j < joints; ++j) {
+    const Vec3 p(4 * rng.uniform(), 3 * rng.uniform(), 2 * rng.uniform());
+    s << "[[joints]]\ndip = " << 90 * rng.uniform() << "\ndip_direction = " << 359.9 * rng.uniform()
+      << "\npoint = [" << p.x() << ", " << p.y() << ", " << p.z() << "]\n";
+    const int shape = rng.index(8);
+    if (shape == 0) continue;  // persistent
+    const double r = rng.uniform(0.2, 1.2), phase = rng.uniform(0, 2 * std::numbers::pi);
+    const int sides = shape <= 3 ? 4 : shape <= 6 ? 16 : 3;
+    s << "polygon_uv = [";
+    for (int k = 0; k < sides; ++k) {
+      const double phi = phase + 2 * std::numbers::pi * k / sides;
+      s << (k ? ", " : "") << "[" << r * std::cos(phi) << ", " << r * std::sin(phi) << "]";
+    }
+    s << "]\n";
+  }
+  return s.str();
+}
+
+/// Joints on a lattice of step 0.5 in a 4 m cube: axis-aligned rectangles and persistent planes,
+/// some in the domain's faces, and triangles across the lattice's diagonals. Their corners are
+/// other joints' block vertices, their edges lie on other joints' faces and many are coplanar
+/// with a face (of the domain or of an earlier joint): every degenerate case at once.
+std::string lattice_scene(std::uint64_t seed) {
+  Rng rng(mix(kSeed + 2, seed));
+  std::ostringstream s;
+  s.precision(17);
+  s << "[domain]\nbox = { min = [0, 0, 0], max = [4, 4, 4] }\n";
+  const auto step = [&](int lo, int hi) { return 0.5 * (lo + rng.index(hi - lo + 1)); };
+  const auto corner = [](const Vec3& x) {
+    std::ostringstream o;
+    o << "[" << x.x() << ", " << x.y() << ", " << x.z() << "]";
+    return o.str();
+  };
+  const int joints = 12 + rng.index(12);
+  for (int j = 0; j < joints; ++j) {
+    const int axis = rng.index(3);  // the normal's axis
+    // dip, dip direction of the normals +x, +y, +z (orientation.hpp)
+    constexpr const char* angles[] = {"dip = 90\ndip_direction = 90\n",
+                                      "dip = 90\ndip_direction = 0\n",
+                                      "dip = 0\ndip_direction = 0\n"};
+    const int kind = rng.index(6);
+    if (kind == 5) {  // a triangle x + y + z = c through three lattice points (normal (1,1,1))
+      const double c = step(2, 12);
+      const double a = std::min(c, 4.0);
+      s << "[[joints]]\ndip = 54.735610317245346\ndip_direction = 45\npolygon = ["
+        << corner({a, c - a, 0}) << ", " << corner({0, a, c - a}) << ", " << corner({c - a, 0, a})
+        << "]\n";
+      continue;
+    }
+    Vec3 p(step(0, 8), step(0, 8), step(0, 8));
+    s << "[[joints]]\n" << angles[axis];
+    if (kind == 0) {  // persistent
+      s << "point = " << corner(p) << "\n";
+      continue;
+    }
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    const double u0 = step(0, 6), v0 = step(0, 6);
+    const double u1 = u0 + step(1, 8 - int(2 * u0)), v1 = v0 + step(1, 8 - int(2 * v0));
+    Vec3 a = p, b = p, c = p, d = p;
+    a[u] = u0, a[v] = v0, b[u] = u1, b[v] = v0, c[u] = u1, c[v] = v1, d[u] = u0, d[v] = v1;
+    s << "polygon = [" << corner(a) << ", " << corner(b) << ", " << corner(c) << ", " << corner(d)
+      << "]\n";
+  }
+  return s.str();
+}
+
+/// Cuts with and without the shortcuts: the same blocks, bit for bit, and fewer cut LPs.
+void check_same_blocks(const std::string& scene, std::size_t& lps_with, std::size_t& lps_without,
+                       std::size_t& settled) {
+  const auto js = slice::generate_joints(slice::parse_scene(scene, "scene.toml"));
+  slice::CutOptions with, without;
+  without.use_shortcuts = false;
+  const auto a = slice::cut_blocks(js, with), b = slice::cut_blocks(js, without);
+  test::check_same(a.blocks, b.blocks);
+  CHECK(a.stats.splits == b.stats.splits);
+  CHECK(a.stats.splits_undone == b.stats.splits_undone);
+  CHECK(a.stats.pairs_skipped == b.stats.pairs_skipped);
+  CHECK(b.stats.rejected_plane + b.stats.rejected_box + b.stats.rejected_faces == 0);
+  const std::size_t s = a.stats.rejected_plane + a.stats.rejected_box + a.stats.rejected_faces;
+  CHECK(a.stats.lps.cut_test + s == b.stats.lps.cut_test);
+  lps_with += a.stats.lps.cut_test;
+  lps_without += b.stats.lps.cut_test;
+  settled += s;
+}
+
+}  // namespace
+
+TEST_CASE("the shortcuts change no block of random polygon scenes", "[property][cut][reject]") {
+  const long n = test::scaled_cases(20);
+  std::size_t with = 0, without = 0, settled = 0;
+  for (long seed = 1; seed <= n; ++seed) {
+    CAPTURE(seed);
+    check_same_blocks(random_polygon_scene(std::uint64_t(seed)), with, without, settled);
+  }
+  std::ostringstream summary;
+  summary << without << " cut LPs without the shortcuts, " << with << " with";
+  SUCCEED(summary.str());  // shown with -s
+  CHECK(settled > 0);
+  CHECK(2 * with < without);  // most pairs past the index are settled by geometry
+}
+
+TEST_CASE("the shortcuts change no block of degenerate lattice scenes", "[property][cut][reject]") {
+  const long n = test::scaled_cases(40);
+  std::size_t with = 0, without = 0, settled = 0;
+  for (long seed = 1; seed <= n; ++seed) {
+    const std::string scene = lattice_scene(std::uint64_t(seed));
+    CAPTURE(seed, scene);
+    check_same_blocks(scene, with, without, settled);
+  }
+  std::ostringstream summary;
+  summary << without << " cut LPs without the shortcuts, " << with << " with";
+  SUCCEED(summary.str());  // shown with -s
+  CHECK(settled > 0);
+}
