@@ -239,7 +239,14 @@ TEST_CASE("the selection rule on a row of four unit cubes", "[extract]") {
     slice::ExtractOptions o;
     o.region.shape = slice::RegionShape::sphere;
     o.region.a = {0, 0.5, 0.5};
-    o.region.radius = 1.2;  // the vertices at x = 1 are sqrt(1.5) = 1.22 away: cube 1 out
+    // The vertices at x = 1 are sqrt(1.5) = 1.22 away, out, but the sphere bulges 0.2 through
+    // the face x = 1 into cube 1: cube 0 and cube 1 are cut.
+    o.region.radius = 1.2;
+    const auto ball = slice::extract_blocks(bs, o, "r");
+    CHECK(ball.source_block == Ids{0, 1});
+    CHECK(fixed_rows(ball) == Ids{0, 1});
+    CHECK(ball.stats.reached == 1);
+    o.region.radius = 0.9;  // it reaches x = 0.9 only: cube 0 alone
     CHECK(slice::extract_blocks(bs, o, "r").source_block == Ids{0});
     o.region.shape = slice::RegionShape::cylinder;
     o.region.a = {-1, 0.5, 0.5};
@@ -251,4 +258,44 @@ TEST_CASE("the selection rule on a row of four unit cubes", "[extract]") {
     // the end at x = 1.5.
     CHECK(fixed_rows(s) == Ids{1});
   }
+}
+
+TEST_CASE("a region that reaches into a block between its vertices cuts it", "[extract]") {
+  // Cube 1 is [1, 2] x [0, 1] x [0, 1]; in each case none of its vertices is in the region.
+  const slice::BlockSystem bs = row_of_cubes();
+  slice::ExtractOptions o;
+  const auto region = [&](slice::RegionShape shape, const Vec3& a, const Vec3& b, double r) {
+    o.region.shape = shape;
+    o.region.a = a;
+    o.region.b = b;
+    o.region.radius = r;
+  };
+  SECTION("a thin cylinder through it") {
+    region(slice::RegionShape::cylinder, {1.5, -1, 0.5}, {1.5, 2, 0.5}, 0.3);
+  }
+  SECTION("a sphere bulging through its top face") {
+    region(slice::RegionShape::sphere, {1.5, 0.5, 1.2}, Vec3::Zero(), 0.5);
+  }
+  SECTION("a box poking down into its top face") {
+    region(slice::RegionShape::box, {1.2, 0.2, 0.8}, {1.8, 0.8, 1.5}, 0);
+  }
+  SECTION("the points within 0.4 of a zone 0.2 above its top face") {
+    auto with_zone = bs;
+    with_zone.joints.zones.push_back({slice::box_planes({1.4, -5, 1.2}, {1.6, 5, 1.3})});
+    region(slice::RegionShape::near_zone, Vec3::Zero(), Vec3::Zero(), 0.4);
+    const auto s = slice::extract_blocks(with_zone, o, "r");
+    CHECK(s.source_block == Ids{1});
+    CHECK(fixed_rows(s) == Ids{1});
+    return;
+  }
+  const auto s = slice::extract_blocks(bs, o, "r");
+  CHECK(s.source_block == Ids{1});
+  CHECK(fixed_rows(s) == Ids{1});
+  CHECK(s.stats.reached == 1);
+  // Moved off by a little more than its depth inside, it reaches nowhere: refused.
+  const double shift = o.region.shape == slice::RegionShape::cylinder ? 0.85 : 0.35;
+  o.region.a.z() += shift;
+  o.region.b.z() += shift;
+  CHECK_THAT(test::error_of([&] { slice::extract_blocks(bs, o, "r"); }),
+             Contains("keeps no block"));
 }

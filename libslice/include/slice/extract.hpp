@@ -9,6 +9,9 @@
 // depth > tol, out if depth < -tol, on the boundary otherwise (tol: the file's length tolerance,
 // [options] tolerance x length_scale). A unit is a block in no cluster, or a whole cluster (a DEM
 // clump is never cut in pieces); its vertices are those of all its blocks.
+//   - A block with no vertex in that the region still reaches into (some point of the block
+//     deeper than tol: a cylinder through a large block, a sphere bulging through a face;
+//     RegionDepth::reaches_into) counts as having a vertex in: it is cut.
 //   - A unit with no vertex in is left out.
 //   - A unit with a vertex in and one out is cut by the boundary: kept whole, its blocks fixed.
 //   - A unit with every vertex in or on is inside: kept; its blocks fixed if its shallowest
@@ -20,6 +23,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -59,6 +63,10 @@ class RegionDepth {
   RegionDepth(RegionDepth&&) noexcept;
   RegionDepth& operator=(RegionDepth&&) noexcept;
   double operator()(const Vec3& x) const;
+  /// Whether some point of the convex hull of `vertices` (a block) lies deeper than tol in the
+  /// region, though maybe none of the vertices does: exact but for the rounding of the inputs
+  /// (CGAL's Polytope_distance_d in exact arithmetic; a mesh zone triangle by triangle).
+  bool reaches_into(std::span<const Vec3> vertices, double tol) const;
 
  private:
   struct Impl;
@@ -78,6 +86,7 @@ struct ExtractStats {
   std::size_t cut = 0;        // blocks of units the boundary cuts (fixed)
   std::size_t ring = 0;       // blocks of inside units within `ring` of the boundary (fixed)
   std::size_t was_fixed = 0;  // kept blocks already fixed in the source (boundary, fixed)
+  std::size_t reached = 0;    // source blocks with no vertex in that the region reaches into
   std::size_t clusters = 0;   // clusters kept (whole)
   double volume = 0;          // of the kept blocks that are not removed
 };

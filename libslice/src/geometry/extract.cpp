@@ -1,6 +1,11 @@
 // Sub-models: the blocks of a geom.h5 within a region (slice/extract.hpp, docs/submodels.md).
 #include "slice/extract.hpp"
 
+#include <CGAL/Gmpzf.h>
+#include <CGAL/Polytope_distance_d.h>
+#include <CGAL/Polytope_distance_d_traits_3.h>
+#include <CGAL/Simple_cartesian.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -56,6 +61,7 @@ Vec3 closest_on_triangle(const Vec3& p, const Triangle& t) {
 // A zone as distance() needs it: its boundary as triangles and a test for inside.
 struct ZoneShape {
   std::vector<Triangle> triangles;
+  std::vector<Vec3> corners;              // convex zone: its vertices
   std::vector<Plane> planes;              // convex zone: inside = every plane <= 0
   std::optional<MeshInside> mesh_inside;  // mesh zone
   bool inside(const Vec3& x) const {
@@ -75,10 +81,11 @@ struct ZoneShape {
 // The faces of the convex region `planes` as fans of triangles: each plane's vertices ordered
 // by angle about their mean.
 std::vector<Triangle> convex_triangles(const std::vector<Plane>& planes, double tol,
-                                       const std::string& which) {
+                                       const std::string& which, std::vector<Vec3>& corners) {
   const PolytopeInfo info = analyse_polytope(planes, tol);
   if (!info.bounded || !info.has_interior)
     throw Error(which, "is empty or unbounded", "give --near-zone another zone");
+  corners = info.vertices;
   std::vector<Triangle> out;
   for (const Plane& p : planes) {
     std::vector<Vec3> on;
@@ -98,6 +105,36 @@ std::vector<Triangle> convex_triangles(const std::vector<Plane>& planes, double 
     for (std::size_t i = 1; i + 1 < on.size(); ++i) out.push_back({on[0], on[i], on[i + 1]});
   }
   return out;
+}
+
+// The distance between the convex hulls of two point sets, by CGAL's Polytope_distance_d (a QP
+// solved in exact arithmetic over the double inputs; the square root is the one rounding).
+using CgalKernel = CGAL::Simple_cartesian<double>;
+using DistanceTraits = CGAL::Polytope_distance_d_traits_3<CgalKernel, CGAL::Gmpzf, double>;
+
+double hull_distance(std::span<const Vec3> p, std::span<const Vec3> q) {
+  std::vector<CgalKernel::Point_3> cp, cq;
+  for (const Vec3& x : p) cp.emplace_back(x.x(), x.y(), x.z());
+  for (const Vec3& x : q) cq.emplace_back(x.x(), x.y(), x.z());
+  const CGAL::Polytope_distance_d<DistanceTraits> pd(cp.begin(), cp.end(), cq.begin(), cq.end());
+  const double num = CGAL::to_double(pd.squared_distance_numerator());
+  const double den = CGAL::to_double(pd.squared_distance_denominator());
+  return num == 0 ? 0 : std::sqrt(num / den);
+}
+
+// The convex hull of `points` cut by the half-space p.distance(x) <= 0, as points whose hull it
+// is: the points inside and, for every pair on opposite sides, the point between them on the
+// plane (all pairs, not only the hull's edges: the extra points lie inside the cut hull).
+std::vector<Vec3> clip_hull(const std::vector<Vec3>& points, const Plane& p) {
+  std::vector<Vec3> in, out;
+  for (const Vec3& x : points) (p.distance(x) <= 0 ? in : out).push_back(x);
+  std::vector<Vec3> kept = in;
+  for (const Vec3& a : in)
+    for (const Vec3& b : out) {
+      const double da = p.distance(a), db = p.distance(b);
+      kept.push_back(a + (b - a) * (da / (da - db)));
+    }
+  return kept;
 }
 
 }  // namespace
@@ -174,7 +211,7 @@ RegionDepth::RegionDepth(const ExtractRegion& region, const JointSystem& js)
     ZoneShape z;
     if (i < n_regions) {
       z.planes = solid_region(js.zones[i], js.dimension);
-      z.triangles = convex_triangles(z.planes, tol, "zone " + std::to_string(i));
+      z.triangles = convex_triangles(z.planes, tol, "zone " + std::to_string(i), z.corners);
     } else {
       const TriangleMesh& m = js.zone_meshes[i - n_regions];
       for (const auto& t : m.triangles)
@@ -216,6 +253,46 @@ double RegionDepth::operator()(const Vec3& x) const {
     }
   }
   return 0;
+}
+
+bool RegionDepth::reaches_into(std::span<const Vec3> vertices, double tol) const {
+  if (vertices.empty()) return false;
+  const ExtractRegion& r = impl_->region;
+  switch (r.shape) {
+    case RegionShape::box: {
+      // The box shrunk by tol meets the block.
+      Vec3 lo = r.a + Vec3::Constant(tol), hi = r.b - Vec3::Constant(tol);
+      if (impl_->section) lo.y() = -1, hi.y() = 1;  // every point of a section has y = 0
+      if ((hi - lo).minCoeff() <= 0) return false;
+      std::vector<Vec3> corners;
+      for (int i = 0; i < 8; ++i)
+        corners.push_back(
+            {(i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(), (i & 4) ? hi.z() : lo.z()});
+      return hull_distance(vertices, corners) == 0;
+    }
+    case RegionShape::sphere:
+      return hull_distance(vertices, std::span<const Vec3>(&r.a, 1)) < r.radius - tol;
+    case RegionShape::cylinder: {
+      // The block between the two ends (each moved in by tol), then its distance from the axis.
+      const Vec3 u = (r.b - r.a).normalized();
+      std::vector<Vec3> cut(vertices.begin(), vertices.end());
+      cut = clip_hull(cut, {-u, -u.dot(r.a) - tol});
+      cut = clip_hull(cut, {u, u.dot(r.b) - tol});
+      const Vec3 axis[2] = {r.a, r.b};
+      return !cut.empty() && hull_distance(cut, axis) < r.radius - tol;
+    }
+    case RegionShape::near_zone:
+      for (const ZoneShape& z : impl_->zones) {
+        if (!z.mesh_inside) {
+          if (hull_distance(vertices, z.corners) < r.radius - tol) return true;
+          continue;
+        }
+        for (const Triangle& t : z.triangles)
+          if (hull_distance(vertices, t) < r.radius - tol) return true;
+      }
+      return false;
+  }
+  return false;
 }
 
 void ExtractOptions::validate() const {
@@ -275,6 +352,7 @@ SubModel extract_blocks(const BlockSystem& bs, const ExtractOptions& opt,
 
   // Each block's vertices, then each cluster's (all its blocks together).
   std::vector<UnitState> block_state(n);
+  std::size_t reached = 0;
   std::map<std::int64_t, UnitState> cluster_state;
   for (std::size_t b = 0; b < n; ++b) {
     UnitState& s = block_state[b];
@@ -283,6 +361,22 @@ SubModel extract_blocks(const BlockSystem& bs, const ExtractOptions& opt,
       s.any_in |= d > tol;
       s.any_out |= d < -tol;
       s.min_depth = std::min(s.min_depth, d);
+    }
+    // No vertex in: the region may still reach into the block between its vertices (a
+    // cylinder through a large block, a sphere bulging through a face). Depth is 1-Lipschitz,
+    // so only a block whose bounding ball reaches in can be; those are decided exactly.
+    if (!s.any_in && s.any_out) {
+      const std::span<const Vec3> vs(g.vertices.data() + g.vertex_offset[b],
+                                     std::size_t(g.vertex_offset[b + 1] - g.vertex_offset[b]));
+      Vec3 centre = Vec3::Zero();
+      for (const Vec3& v : vs) centre += v;
+      centre /= double(vs.size());
+      double radius = 0;
+      for (const Vec3& v : vs) radius = std::max(radius, (v - centre).norm());
+      if (depth(centre) + radius > tol && depth.reaches_into(vs, tol)) {
+        s.any_in = true;
+        ++reached;
+      }
     }
     if (bs.blocks[b].cluster >= 0) cluster_state[bs.blocks[b].cluster].add(s);
   }
@@ -293,6 +387,7 @@ SubModel extract_blocks(const BlockSystem& bs, const ExtractOptions& opt,
   Geometry& out = sub.blocks.geometry.emplace();
   ExtractStats& st = sub.stats;
   st.source_blocks = n;
+  st.reached = reached;
   std::size_t face0 = 0, live = 0;
   std::map<std::int64_t, bool> clusters_kept;
   for (std::size_t b = 0; b < n; ++b) {
