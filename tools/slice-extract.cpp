@@ -138,10 +138,10 @@ int main(int argc, char** argv) {
     }
     const slice::ExtractStats& s = sub.stats;
     t.say(describe(r) + ": " + std::to_string(s.kept) + " of " + std::to_string(s.source_blocks) +
-          " blocks kept (" + std::to_string(s.removed) + " of them removed in the source), " +
-          std::to_string(s.clusters) + " clusters whole, " + std::to_string(s.reached) +
-          " blocks kept though no vertex is inside, volume " + tool::sig(s.volume, 6) + " -> " +
-          out);
+          " blocks kept (" + std::to_string(s.removed) + " of them removed in the source; " +
+          std::to_string(s.reached) + " that the region reaches between their vertices), " +
+          std::to_string(s.clusters) + " clusters whole, volume " + tool::sig(s.volume, 6) +
+          " -> " + out);
     t.say("fixed: " + std::to_string(s.cut) + " blocks the boundary cuts, " +
           std::to_string(s.ring) + " more within the ring of " + tool::sig(opt.ring, 6) + ", " +
           std::to_string(s.was_fixed) + " of the kept blocks were fixed in the source");
