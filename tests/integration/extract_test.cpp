@@ -200,6 +200,15 @@ std::vector<std::int64_t> read_ids(const test::fs::path& file) {
 
 }  // namespace
 
+TEST_CASE("slice-extract answers --help and --version", "[tools][extract]") {
+  const auto help = run_tool("slice-extract", {"--help"});
+  CHECK(help.exit_code == 0);
+  CHECK_THAT(help.out, Contains("--cylinder") && Contains("--ring"));
+  const auto version = run_tool("slice-extract", {"--version"});
+  CHECK(version.exit_code == 0);
+  CHECK_THAT(version.out, Contains("rockslice"));
+}
+
 TEST_CASE("slice-extract keeps the blocks the rule says, from the source's vertices",
           "[tools][extract]") {
   test::TempDir tmp;
