@@ -264,6 +264,11 @@ bool RegionDepth::reaches_into(std::span<const Vec3> vertices, double tol) const
       Vec3 lo = r.a + Vec3::Constant(tol), hi = r.b - Vec3::Constant(tol);
       if (impl_->section) lo.y() = -1, hi.y() = 1;  // every point of a section has y = 0
       if ((hi - lo).minCoeff() <= 0) return false;
+      // The block's bounding box must overlap it (most blocks near a face end here, before the
+      // exact test).
+      Vec3 vmin = vertices[0], vmax = vertices[0];
+      for (const Vec3& v : vertices) vmin = vmin.cwiseMin(v), vmax = vmax.cwiseMax(v);
+      if ((vmin.array() >= hi.array()).any() || (vmax.array() <= lo.array()).any()) return false;
       std::vector<Vec3> corners;
       for (int i = 0; i < 8; ++i)
         corners.push_back(
