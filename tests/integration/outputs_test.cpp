@@ -112,6 +112,7 @@ TEST_CASE("a full disk crashed: every tool answers it with exit 1 and one line",
         {"slice-prune", {blocks, "-o", out("p.h5")}},
         {"slice-vertices", {blocks, "-o", out("g.h5")}},
         {"slice-export", {geom, "--format", "yade", "-o", out("m.py")}},
+        {"slice-extract", {geom, "--sphere", "15,10,15,8", "-o", out("s.h5")}},
     };
     for (const auto& r : runs) {
       CAPTURE(r.tool);
