@@ -8,19 +8,23 @@
 #include "common/tool.hpp"
 #include "slice/error.hpp"
 #include "slice/export_3dec.hpp"
+#include "slice/export_udec.hpp"
 #include "slice/export_vtu.hpp"
 #include "slice/export_yade.hpp"
 #include "slice/h5io.hpp"
 
 int main(int argc, char** argv) {
-  tool::Tool t{"slice-export",
-               "Export blocks with vertices (slice-vertices) to VTU for ParaView, YADE or 3DEC."};
+  tool::Tool t{
+      "slice-export",
+      "Export blocks with vertices (slice-vertices) to VTU for ParaView, YADE, 3DEC or UDEC."};
   std::string in, out, format = "vtu", joints;
   slice::YadeOptions yade;  // defaults live in the library
   t.cli.add_option("geometry", in, "geom.h5 from slice-vertices")->required();
-  t.cli.add_option("-o,--output", out, "output file (blocks.vtu, model.py, model.3dgrid)")
+  t.cli
+      .add_option("-o,--output", out,
+                  "output file (blocks.vtu, model.py, model.3dgrid, section.dat)")
       ->required();
-  t.cli.add_option("--format", format, "vtu | yade | yade-potential-blocks | 3dec")
+  t.cli.add_option("--format", format, "vtu | yade | yade-potential-blocks | 3dec | udec")
       ->capture_default_str();
   std::string commands;
   t.cli.add_option("--3dec-commands", commands,
@@ -57,9 +61,9 @@ int main(int argc, char** argv) {
   t.add_threads_option();
   return t.run(argc, argv, [&] {
     if (format != "vtu" && format != "yade" && format != "yade-potential-blocks" &&
-        format != "3dec")
+        format != "3dec" && format != "udec")
       throw slice::Error("--format " + format, "unknown format",
-                         "use vtu, yade, yade-potential-blocks or 3dec");
+                         "use vtu, yade, yade-potential-blocks, 3dec or udec");
     if (!joints.empty() && format != "vtu")
       throw slice::Error("--joints", "is for --format vtu", "drop it or export VTU");
     if (!commands.empty() && format != "3dec")
@@ -80,6 +84,16 @@ int main(int argc, char** argv) {
     if (bs.joints.dimension == 2 && format == "3dec")  // the input is 2-D, not the output
       throw slice::Error(in, "is a 2-D section (dimension 2): the 3DEC export is 3-D only",
                          "export it with --format yade (Polyhedra prisms) or --format vtu");
+    if (bs.joints.dimension != 2 && format == "udec")
+      throw slice::Error(in, "is 3-D (dimension 3): the UDEC export is for 2-D sections",
+                         "export it with --format 3dec, or slice a section (dimension = 2)");
+    if (format == "udec") {
+      const auto st = slice::write_udec(out, bs);
+      t.say(std::to_string(st.blocks) + " blocks (" + std::to_string(st.removed) +
+            " removed left out), " + std::to_string(st.vertices) + " corners -> " + out);
+      t.exit_now();
+      return;
+    }
     if (format == "vtu") {
       const auto st = slice::write_blocks_vtu(out, bs, vtu_compressor, t.threads);
       t.say(std::to_string(st.cells) + " blocks (" + std::to_string(st.skipped) +

@@ -68,5 +68,16 @@ int main(int argc, char** argv) {
           " persistent, " + std::to_string(js.joints.size() - persistent) +
           (js.dimension == 2 ? " segments) in " : " polygons) in ") +
           std::to_string(js.sets.size()) + " sets, seed " + std::to_string(js.seed) + " -> " + out);
+    // A section of 3-D sets: each set's trace, as worked out (docs/2d.md).
+    for (std::size_t i = 0; i < scene.set_traces.size(); ++i) {
+      const slice::SectionTrace& tr = scene.set_traces[i];
+      const slice::JointSetSpec& s = js.sets.at(i);
+      t.say("set \"" + slice::escape_control(s.name) + "\" (dip " + tool::sig(tr.dip_deg, 6) +
+            ", dip direction " + tool::sig(tr.dip_direction_deg, 6) + ") in the section (strike " +
+            tool::sig(scene.section->strike_deg, 6) + "): apparent dip " +
+            tool::fixed(tr.apparent_dip_deg, 2) + " towards " +
+            tool::sig(tr.apparent_dip_direction_deg, 3) + ", spacing " + tool::sig(s.spacing, 6) +
+            ", " + std::to_string(s.candidates) + " lines");
+    }
   });
 }

@@ -95,7 +95,7 @@ TEST_CASE("bad 2-D scenes are refused with the line and the fix", "[unit][scene]
   check_message(
       error_of(kHead + "[[zones]]\ntunnel = { point = [1, 1], direction = [1, 0], length = 1, "
                        "radius = 1 }\n"),
-      {"bad.toml:6", "a tunnel zone is 3-D", "box = { min = [x, z]"});
+      {"bad.toml:6", "'direction'", "is for 3-D tunnels", "point = [x, z]"});
   check_message(error_of("[scene]\ndimension = 2\n[domain]\nbox = { min = [0, 0, 0], max = "
                          "[1, 1, 1] }\n"),
                 {"bad.toml:4", "must be 2 numbers [x, z]"});

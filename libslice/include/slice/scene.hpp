@@ -194,6 +194,34 @@ struct EntryPlace {
   std::int64_t entry = 0;  // ties on one line (inline tables): [[joints]] by index, then [[sets]]
 };
 
+/// A 2-D scene's section of the 3-D frame ([section], docs/2d.md "Sections of a 3-D scene"): a
+/// vertical plane through `point` with horizontal unit normal `normal` = (0, 0, 1) x `along`;
+/// a point (x, z) of the section is global point_h + x along + z (0, 0, 1), point_h = (px, py,
+/// 0): x the distance along the strike from `point`, z the elevation. Strike 90 (along = +x) is
+/// the plane y = py seen as the default section (x, z) is.
+struct SectionPlane {
+  Vec3 point = Vec3::Zero();
+  Vec3 along = Vec3::UnitX();   // horizontal unit vector: the section's x axis
+  Vec3 normal = Vec3::UnitY();  // horizontal unit normal
+  double strike_deg = 90;       // azimuth of `along`, clockwise from North, [0, 360)
+};
+
+/// A 3-D plane orientation (dip, dip direction) traced in a section: the trace's apparent dip
+/// in the section's (x, z) frame and how the set's spacing and offset carry over. With n the
+/// plane's upward unit normal, the trace is the line (n . along) x + n_z z = c - n . point_h of
+/// the section; sin_angle = |(n . along, n_z)| = sin of the angle between n and the section's
+/// normal, so the lines of planes n . X = offset + k spacing lie spacing / sin_angle apart.
+struct SectionTrace {
+  double dip_deg = 0, dip_direction_deg = 0;  // the plane's, in 3-D
+  double apparent_dip_deg = 0;                // in the section, [0, 90]
+  double apparent_dip_direction_deg = 90;     // 90 (dips towards +x) or 270 (towards -x)
+  double sin_angle = 1;                       // 0: the plane is parallel to the section
+  double shift = 0;                           // n . point_h
+  double spacing(double s) const { return s / sin_angle; }
+  double offset(double o) const { return (o - shift) / sin_angle; }
+};
+SectionTrace section_trace(const SectionPlane& section, double dip_deg, double dip_direction_deg);
+
 /// What a scene file says, parsed and validated.
 struct Scene {
   std::filesystem::path source;  // the file it came from (for messages)
@@ -211,8 +239,10 @@ struct Scene {
   std::vector<TriangleMesh> zone_meshes;  // [[zones]] mesh: closed meshes (mesh.hpp)
   std::vector<std::filesystem::path> mesh_files;  // the files they were read from (for tools'
                                                   //   same-file checks)
-  std::vector<EntryPlace> joint_places;   // one per joint: its [[joints]] entry or its zone
-  std::vector<EntryPlace> set_places;     // one per [[sets]] entry
+  std::vector<EntryPlace> joint_places;           // one per joint: its [[joints]] entry or its zone
+  std::vector<EntryPlace> set_places;             // one per [[sets]] entry
+  std::optional<SectionPlane> section;   // [section]: the 2-D scene is a section of 3-D sets
+  std::vector<SectionTrace> set_traces;  // with a section: one per [[sets]] entry
 };
 
 /// The joint system of a rock mass: everything in joints.h5.

@@ -79,6 +79,14 @@ std::vector<Region> tunnel_fan(const Tunnel& t, double tol);
 /// and dip direction (orientation.hpp), counter-clockwise, about the face's vertex mean.
 std::vector<Joint> tunnel_joints(const Tunnel& t, std::span<const Plane> domain, double tol);
 
+/// A tunnel of a 2-D section (docs/2d.md): the prism of the section's unit thickness, `point` at
+/// y = 0.5 and `direction` -y, length 1, so that (u, v) = (x, z) about the section point. Its
+/// construction joints: one segment joint per edge of the outline (stored as 2-D segments are,
+/// the rectangle of the joint's plane from y = -0.5 to 0.5), its normal exactly the edge's with
+/// y = 0. An edge on or outside a face of `domain` is left out.
+std::vector<Joint> section_tunnel_joints(const Tunnel& t, std::span<const Plane> domain,
+                                         double tol);
+
 /// A construction joint (limits = false) on the convex planar polygon `corners` (in order
 /// around it, either way), as [[joints]] gives polygons: in the plane frame of its dip and dip
 /// direction, counter-clockwise, about the corners' mean. For tunnels and [[zones]] meshes.

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "slice/error.hpp"
+#include "slice/export_udec.hpp"
 #include "slice/orientation.hpp"
 #include "slice/output.hpp"
 #include "slice/version.hpp"
@@ -499,6 +500,50 @@ ThreeDecStats write_3dec(const std::filesystem::path& grid, const std::filesyste
   write_commands(c, grid_name, bs, opt, ids, clusters, contacts, st);
   g.commit();
   c.commit();
+  return st;
+}
+
+// UDEC (export_udec.hpp): here, beside the 3DEC writer, for its text file and numbers.
+UdecStats write_udec(const std::filesystem::path& out, const BlockSystem& bs) {
+  if (bs.joints.dimension != 2)
+    throw Error(out.string(),
+                "not written: the blocks are 3-D, the UDEC export is for 2-D sections",
+                "export a 3-D model with --format 3dec, or slice a section (dimension = 2)");
+  if (!bs.geometry)
+    throw Error(out.string(), "the blocks have no vertices (no /geometry)",
+                "run slice-vertices on the blocks file first");
+  const Geometry& g = *bs.geometry;
+  UdecStats st;
+  TextOut f(out);
+  std::string& s = f.buf();
+  s += "; rockslice " + std::string(version()) + ": the blocks of section \"" +
+       escape_control(bs.joints.name) + "\" as UDEC 7 commands (docs/2d.md)\n";
+  s += "; UDEC x, y = the section's x, z; corners clockwise; block N is row N - 1 of blocks.h5\n";
+  s += "model new\n";
+  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
+    const Block& blk = bs.blocks[b];
+    if (blk.flags & kRemoved) {
+      ++st.removed;
+      continue;
+    }
+    s += "; block " + std::to_string(b + 1);
+    if (blk.flags & kBoundary) s += " boundary";
+    if (blk.flags & kFixed) s += " fixed";
+    if (blk.cluster >= 0) s += " cluster " + std::to_string(blk.cluster);
+    s += "\nblock create polygon";
+    const auto v0 = std::size_t(g.vertex_offset[b]), v1 = std::size_t(g.vertex_offset[b + 1]);
+    for (std::size_t v = v1; v-- > v0;) {  // counter-clockwise in (x, z), written backwards
+      s += ' ';
+      put_num(s, g.vertices[v].x());
+      s += ',';
+      put_num(s, g.vertices[v].z());
+    }
+    s += '\n';
+    st.vertices += v1 - v0;
+    ++st.blocks;
+    f.maybe_flush();
+  }
+  f.commit();
   return st;
 }
 

@@ -189,7 +189,12 @@ Joint read_joint(const Context& cx, const toml::table& tt, std::size_t index) {
   const Reader& r = cx.r;
   const Tbl t{r, tt, "[[joints]] #" + std::to_string(index + 1)};
   t.check_keys(kJointKeys);
-  const Common c = read_common(t);
+  Common c = read_common(t);
+  if (cx.section) {  // a 3-D orientation: its trace in the section
+    const SectionTrace tr = trace_in_section(cx, t, c.dip, c.dip_direction);
+    c.dip = tr.apparent_dip_deg;
+    c.dip_direction = tr.apparent_dip_direction_deg;
+  }
   Joint j;
   j.dip_deg = c.dip;
   j.dip_direction_deg = c.dip_direction;
@@ -402,8 +407,9 @@ std::size_t read_intensity(const Tbl& t) {
   return given.front();
 }
 
-// A regular set (spacing): persistent planes of one orientation, no size.
-void read_regular(const Context& cx, const Tbl& t, JointSetSpec& s) {
+// A regular set (spacing): persistent planes of one orientation, no size. In a section, `trace`
+// carries the 3-D set's spacing and offset over to its lines.
+void read_regular(const Context& cx, const Tbl& t, JointSetSpec& s, const SectionTrace* trace) {
   const Reader& r = t.r;
   std::string_view bad;
   if (const toml::node* n = first_present(
@@ -423,6 +429,10 @@ void read_regular(const Context& cx, const Tbl& t, JointSetSpec& s) {
   s.spacing =
       positive(t, "spacing", "give the distance between the set's planes, a positive length");
   s.offset = number(t, "offset", 0);
+  if (trace) {
+    s.spacing = trace->spacing(s.spacing);
+    s.offset = trace->offset(s.offset);
+  }
   const Vec3 n = dip_normal(s.dip_deg, s.dip_direction_deg, cx.dimension);
   const auto [lo, hi] = extent_along(cx.domain_info.info.vertices, n);
   if ((hi - lo) / s.spacing > kMaxPlanesPerSet)
@@ -547,7 +557,7 @@ void check_expected_count(const Context& cx, const Tbl& t, const toml::node& in,
 }  // namespace
 
 JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t index,
-                      std::set<std::string>& names) {
+                      std::set<std::string>& names, SectionTrace* trace) {
   const Reader& r = cx.r;
   std::string name = "set-" + std::to_string(index + 1);
   std::string ctx = "[[sets]] #" + std::to_string(index + 1);
@@ -561,7 +571,14 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
   if (!names.insert(name).second)
     r.fail(name_node ? *name_node : static_cast<const toml::node&>(tt),
            "two [[sets]] are named \"" + name + "\"", "give each set its own name");
-  const Common c = read_common(t);
+  Common c = read_common(t);
+  SectionTrace tr;
+  if (cx.section) {  // a 3-D set: its trace in the section
+    tr = trace_in_section(cx, t, c.dip, c.dip_direction);
+    c.dip = tr.apparent_dip_deg;
+    c.dip_direction = tr.apparent_dip_direction_deg;
+    if (trace) *trace = tr;
+  }
   JointSetSpec s;
   s.name = name;
   s.dip_deg = c.dip;
@@ -580,7 +597,8 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
   if (cx.dimension == 2) {
     if (s.intensity != SetIntensity::spacing)
       r.fail(*t.find(ikey),
-             t.label(ikey) + ": a 2-D scene's sets are regular lines (spacing) for now",
+             t.label(ikey) + ": a 2-D scene's sets are regular lines (spacing) for now" +
+                 (cx.section ? ", and a 3-D set is traced in a section only with spacing" : ""),
              "give spacing = <distance between the lines>, or the joints one by one as "
              "[[joints]] with segment = [[x1, z1], [x2, z2]]");
     if (const toml::node* n = t.find("fisher_kappa"))
@@ -601,7 +619,7 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
   const bool finite = s.size.distribution != SizeDistribution::persistent;
 
   if (s.intensity == SetIntensity::spacing) {
-    read_regular(cx, t, s);
+    read_regular(cx, t, s, cx.section ? &tr : nullptr);
     return s;
   }
 

@@ -366,7 +366,8 @@ std::vector<SceneKeys> scene_keys() {
           {"zones", "box", list(kBoxKeys)},
           {"zones", "planes", list(kPlaneKeys)},
           {"zones", "tunnel", list(kTunnelKeys)},
-          {"rock", "", list(kRockKeys)}};
+          {"rock", "", list(kRockKeys)},
+          {"section", "", list(kSectionKeys)}};
 }
 
 namespace {
@@ -515,6 +516,10 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
 
   if (const toml::table* ot = single("options")) read_options(r, *ot, scene);
   if (const toml::table* rt = single("rock")) read_rock(r, *rt, scene);
+  if (const toml::table* st = single("section")) {
+    cx.section = read_section_plane(cx, *st);
+    scene.section = cx.section;
+  }
 
   const auto joints = multi("joints");
   for (std::size_t i = 0; i < joints.size(); ++i) {
@@ -526,7 +531,9 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
   std::set<std::string> names;
   const auto sets = multi("sets");
   for (std::size_t i = 0; i < sets.size(); ++i) {
-    scene.sets.push_back(read_set(cx, *sets[i], i, names));
+    SectionTrace trace;
+    scene.sets.push_back(read_set(cx, *sets[i], i, names, &trace));
+    if (cx.section) scene.set_traces.push_back(trace);
     scene.set_places.push_back(read_place(r, *sets[i],
                                           "[[sets]] \"" + scene.sets.back().name + "\"",
                                           static_cast<std::int64_t>(joints.size() + i)));

@@ -25,8 +25,8 @@
 namespace slice::scene_read {
 
 // The keys of each table of a scene file (docs/scenes.md).
-inline constexpr std::array<std::string_view, 7> kTopTables = {
-    "scene", "domain", "options", "joints", "sets", "zones", "rock"};
+inline constexpr std::array<std::string_view, 8> kTopTables = {
+    "scene", "domain", "options", "joints", "sets", "zones", "rock", "section"};
 inline constexpr std::array<std::string_view, 5> kSceneKeys = {"name", "seed", "tolerance",
                                                                "max_joints", "dimension"};
 inline constexpr std::array<std::string_view, 2> kRegionKeys = {"box", "planes"};
@@ -49,6 +49,8 @@ inline constexpr std::array<std::string_view, 24> kSetKeys = {
     "friction_angle", "cohesion", "fisher_kappa",  "density", "count",  "p32",  "p10",
     "scanline",       "size",     "shape",         "aspect",  "sides",  "fit",  "rotation",
     "stage",          "limits",   "tension"};
+// [section]: the vertical plane a 2-D scene cuts 3-D joint sets in (section.cpp).
+inline constexpr std::array<std::string_view, 3> kSectionKeys = {"point", "strike", "normal"};
 // [rock]: intact rock, for the contacts DEM exports put through rock bridges (RockSpec).
 inline constexpr std::array<std::string_view, 3> kRockKeys = {"friction_angle", "cohesion",
                                                               "tension"};
@@ -88,6 +90,7 @@ struct Context {
   DomainBox box{};  // the domain as the joint generator sees it
   std::int64_t max_joints = kDefaultMaxJoints;
   std::filesystem::path dir{};  // the scene file's directory: relative mesh paths start there
+  std::optional<SectionPlane> section{};  // [section]: dips are 3-D, traced in the section
   double tol() const { return rel_tol * domain_info.length_scale; }
 };
 
@@ -96,12 +99,20 @@ EntryPlace read_place(const Reader& r, const toml::table& t, const std::string& 
                       std::int64_t entry);
 
 // ---------------------------------------------------------------------------------------------
+// [section]: section.cpp
+
+SectionPlane read_section_plane(const Context& cx, const toml::table& st);
+// The trace of a 3-D dip / dip direction of entry `t` in cx.section; refuses a parallel plane.
+SectionTrace trace_in_section(const Context& cx, const Tbl& t, double dip, double dip_direction);
+
+// ---------------------------------------------------------------------------------------------
 // Entries: joint_entries.cpp, zones.cpp
 
 Joint read_joint(const Context& cx, const toml::table& tt, std::size_t index);
-// `names`: the names of the sets before it (two sets may not share one).
+// `names`: the names of the sets before it (two sets may not share one). In a section
+// (cx.section) the set is its trace, and `trace` (if given) receives how it was traced.
 JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t index,
-                      std::set<std::string>& names);
+                      std::set<std::string>& names, SectionTrace* trace = nullptr);
 
 // What a [[zones]] entry makes: removal regions and, for a tunnel with cut = true, the
 // construction joints along its surface, all introduced at `place`.

@@ -192,6 +192,36 @@ std::vector<Region> tunnel_fan(const Tunnel& t, double tol) {
   return out;
 }
 
+std::vector<Joint> section_tunnel_joints(const Tunnel& t, std::span<const Plane> domain,
+                                         double tol) {
+  const TunnelFrame f = tunnel_frame(t.direction);
+  const std::size_t n = t.outline.size();
+  const Vec3 half = 0.5 * Vec3::UnitY();
+  std::vector<Joint> out;
+  for (std::size_t i = 0; i < n; ++i) {
+    // The edge at the middle of the unit thickness, y = 0.
+    const Vec3 a = f.to_global(t.point, t.outline[i], 0.5 * t.length);
+    const Vec3 b = f.to_global(t.point, t.outline[(i + 1) % n], 0.5 * t.length);
+    const std::vector<Vec3> corners{a - half, b - half, b + half, a + half};
+    if (face_misses_domain(corners, domain, tol)) continue;
+    const Vec3 e = b - a;
+    Vec3 m = Vec3(e.z(), 0, -e.x()).normalized();  // upward; a vertical one towards +x
+    if (m.z() < 0 || (m.z() == 0 && m.x() < 0)) m = -m;
+    Joint j;
+    j.dip_deg = std::atan2(std::abs(m.x()), m.z()) * 180 / std::numbers::pi;
+    j.dip_direction_deg = m.x() > 0 ? 90 : m.x() < 0 ? 270 : 0;
+    j.centre = 0.5 * (a + b);
+    j.plane = {m, m.dot(j.centre)};
+    j.kind = JointKind::construction;
+    j.limits = false;  // the size and shape limits must not undo the outline
+    const JointFrame frame = plane_frame(j.dip_deg, j.dip_direction_deg);
+    for (const Vec3& x : corners) j.polygon_uv.push_back(frame.to_uv(j.centre, x));
+    if (signed_area(j.polygon_uv) < 0) std::reverse(j.polygon_uv.begin(), j.polygon_uv.end());
+    out.push_back(std::move(j));
+  }
+  return out;
+}
+
 std::vector<Joint> tunnel_joints(const Tunnel& t, std::span<const Plane> domain, double tol) {
   const TunnelFrame f = tunnel_frame(t.direction);
   const auto& p = t.outline;

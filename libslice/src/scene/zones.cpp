@@ -78,15 +78,9 @@ std::vector<Vec2> read_section(const Context& cx, const Tbl& t) {
   return uv;
 }
 
-Tunnel read_tunnel(const Context& cx, const Tbl& zone, const toml::node& node) {
-  const Reader& r = zone.r;
-  const Tbl t{r,
-              as_table(r, node, zone.label("tunnel"),
-                       "write tunnel = { point = [x, y, z], direction = [dx, dy, dz], length = L, "
-                       "radius = R }"),
-              "'tunnel' of " + zone.ctx};
-  t.check_keys(kTunnelKeys);
-  Tunnel tun;
+// A 3-D tunnel's axis: point, direction, length.
+void read_axis(const Tbl& t, Tunnel& tun) {
+  const Reader& r = t.r;
   tun.point = to_vector<3>(r, t.require("point", "add point = [x, y, z], where the axis starts"),
                            t.label("point"));
   const toml::node& dn =
@@ -100,6 +94,39 @@ Tunnel read_tunnel(const Context& cx, const Tbl& zone, const toml::node& node) {
   tun.direction = d / len;
   t.require("length", "add length = L, the tunnel's length along its axis from 'point'");
   tun.length = positive(t, "length", "give the tunnel's length along its axis, > 0");
+}
+
+// A 2-D tunnel (docs/2d.md): its section about `point` = [x, z], (u, v) = (x, z), as the prism
+// of the section's unit thickness along -y (section_tunnel_joints).
+void read_section_tunnel(const Tbl& t, Tunnel& tun) {
+  std::string_view which;
+  if (const toml::node* n =
+          first_present(t, std::array<std::string_view, 2>{"direction", "length"}, &which))
+    t.r.fail(*n, t.label(which) + " is for 3-D tunnels: a 2-D tunnel is its cross-section",
+             "remove " + quote_key(which) + "; give point = [x, z] and radius or outline");
+  tun.point = to_point(t.r, t.require("point", "add point = [x, z], the tunnel's centre"),
+                       t.label("point"), 2) +
+              0.5 * Vec3::UnitY();
+  tun.direction = -Vec3::UnitY();
+  tun.length = 1;
+}
+
+Tunnel read_tunnel(const Context& cx, const Tbl& zone, const toml::node& node) {
+  const Reader& r = zone.r;
+  const Tbl t{
+      r,
+      as_table(r, node, zone.label("tunnel"),
+               cx.dimension == 2 ? "write tunnel = { point = [x, z], radius = R }"
+                                 : "write tunnel = { point = [x, y, z], direction = [dx, dy, dz], "
+                                   "length = L, radius = R }"),
+      "'tunnel' of " + zone.ctx};
+  t.check_keys(kTunnelKeys);
+  Tunnel tun;
+  if (cx.dimension == 2) {
+    read_section_tunnel(t, tun);
+  } else {
+    read_axis(t, tun);
+  }
   tun.outline = read_section(cx, t);
   // The sides lie about this far from the axis: their offsets must resolve the tolerance.
   double reach = 0;
@@ -212,9 +239,10 @@ ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
     in_domain = meets_domain(cx, z.regions);
   } else {
     const std::string_view kind = tunnel ? "tunnel" : "mesh";
-    if (cx.dimension == 2)
-      r.fail(tunnel ? *tunnel : *mesh, t.ctx + ": a " + std::string(kind) + " zone is 3-D",
-             "in a 2-D scene give the zone as box = { min = [x, z], max = [x, z] } or planes");
+    if (cx.dimension == 2 && mesh)
+      r.fail(*mesh, t.ctx + ": a mesh zone is 3-D",
+             "in a 2-D scene give the zone as box = { min = [x, z], max = [x, z] }, planes or "
+             "tunnel = { point = [x, z], radius = R }");
     if (const toml::node* n = first_present(t, kRegionKeys, &which))
       r.fail(*n, t.ctx + " gives both " + quote_key(kind) + " and " + quote_key(which),
              "keep one of them");
@@ -241,7 +269,12 @@ ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
     const Tunnel tun = read_tunnel(cx, t, *tunnel);
     if (cut) check_tunnel_precision(cx, t, *tunnel, tun);
     z.regions = tunnel_regions(tun, cx.tol());
-    if (cut) z.joints = tunnel_joints(tun, cx.box.planes, cx.tol());
+    if (cx.dimension == 2)  // no faces normal to y in a section: the ends are the slab's
+      for (Region& reg : z.regions)
+        std::erase_if(reg.planes, [](const Plane& p) { return p.normal.y() != 0; });
+    if (cut)
+      z.joints = cx.dimension == 2 ? section_tunnel_joints(tun, cx.box.planes, cx.tol())
+                                   : tunnel_joints(tun, cx.box.planes, cx.tol());
     // The fan's prisms have a few planes each; a convex region of up to 1000 sides is too many
     // for analyse_polytope (O(planes^4)).
     in_domain = meets_domain(cx, tunnel_fan(tun, 0));
