@@ -364,11 +364,13 @@ TEST_CASE("bad DFN files are refused by slice-joints with one line naming the li
   // of another friction, -o on the DFN file.
   test::write_text(tmp / "net.fab", fab);
   test::write_text(tmp / "d.csv", "x,y,z,dip,dip_direction\n1,2,3,4,5\n");
+  test::write_text(tmp / "t.csv", "x,y,z,dip,dip_direction,radius\n1,2,3,4,5,1e-300\n");
   const std::vector<Case> scenes = {
       {"sets",
        "[[dfn]]\nfile = \"net.fab\"\nsets = { D = { cohesion = 1 } }\n",
        {"unknown key 'D'"}},
       {"csv", "[[dfn]]\nfile = \"d.csv\"\n", {"d.csv:1:", "no column \"radius\""}},
+      {"tiny", "[[dfn]]\nfile = \"t.csv\"\n", {"t.csv:2:", "disc row 1 reaches"}},
       {"friction",
        "[[dfn]]\nfile = \"net.fab\"\n[[joints]]\ndip = 0\ndip_direction = 0\npoint = [1, 1, 1]\n"
        "set = \"A\"\nfriction_angle = 20\n",

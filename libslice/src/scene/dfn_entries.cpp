@@ -247,6 +247,18 @@ DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, s
       j.centre = f.centre;
       j.plane = {frame.n, frame.n.dot(f.centre)};
       j.polygon_uv = f.polygon_uv;
+      double reach = 0;  // the disc's polygon's size: a radius of 1e-300 or 1e308 is a slip
+      bool finite = true;
+      for (const Vec2& uv : j.polygon_uv) {
+        finite = finite && uv.allFinite();
+        reach = std::max(reach, uv.norm());
+      }
+      if (!finite || !(reach > cx.tol()))
+        r.fail(node,
+               in_file + ":" + std::to_string(f.line) + ": disc " + f.id + " reaches " +
+                   fmt(reach, 3) + " from its centre, not a size between the tolerance " +
+                   fmt(cx.tol(), 3) + " and a finite length",
+               "check the radius and its unit against the domain's");
     } else if (const std::string why = polygon_joint(f.nodes, cx.tol(), planarity, j);
                !why.empty()) {
       r.fail(node, in_file + ":" + std::to_string(f.line) + ": fracture " + f.id + " " + why,
