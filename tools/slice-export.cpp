@@ -1,11 +1,13 @@
 // slice-export: geom.h5 (blocks with /geometry) -> blocks.vtu for ParaView, a YADE script, or a
-// 3DEC grid with the command file that imports it.
+// 3DEC grid with the command file that imports it; or the joints of joints.h5 (or of blocks) as a
+// FracMan FAB file (--format fab), so that FracMan and PorePy open a DFN rockslice made.
 #include <filesystem>
 #include <map>
 #include <string>
 #include <tuple>
 
 #include "common/tool.hpp"
+#include "slice/dfn.hpp"
 #include "slice/error.hpp"
 #include "slice/export_3dec.hpp"
 #include "slice/export_udec.hpp"
@@ -19,12 +21,15 @@ int main(int argc, char** argv) {
       "Export blocks with vertices (slice-vertices) to VTU for ParaView, YADE, 3DEC or UDEC."};
   std::string in, out, format = "vtu", joints;
   slice::YadeOptions yade;  // defaults live in the library
-  t.cli.add_option("geometry", in, "geom.h5 from slice-vertices")->required();
+  t.cli
+      .add_option("geometry", in,
+                  "geom.h5 from slice-vertices (fab: joints.h5 or any later file)")
+      ->required();
   t.cli
       .add_option("-o,--output", out,
-                  "output file (blocks.vtu, model.py, model.3dgrid, section.dat)")
+                  "output file (blocks.vtu, model.py, model.3dgrid, section.dat, dfn.fab)")
       ->required();
-  t.cli.add_option("--format", format, "vtu | yade | yade-potential-blocks | 3dec | udec")
+  t.cli.add_option("--format", format, "vtu | yade | yade-potential-blocks | 3dec | udec | fab")
       ->capture_default_str();
   std::string commands;
   t.cli.add_option("--3dec-commands", commands,
@@ -61,9 +66,25 @@ int main(int argc, char** argv) {
   t.add_threads_option();
   return t.run(argc, argv, [&] {
     if (format != "vtu" && format != "yade" && format != "yade-potential-blocks" &&
-        format != "3dec" && format != "udec")
+        format != "3dec" && format != "udec" && format != "fab")
       throw slice::Error("--format " + format, "unknown format",
-                         "use vtu, yade, yade-potential-blocks, 3dec or udec");
+                         "use vtu, yade, yade-potential-blocks, 3dec, udec or fab");
+    if (format == "fab") {  // the joints: of joints.h5, or of the blocks' file
+      if (!joints.empty() || !commands.empty())
+        throw slice::Error(joints.empty() ? "--3dec-commands" : "--joints",
+                           "does not apply to --format fab", "drop it");
+      tool::check_distinct_paths({{"geometry", in, false}, {"-o", out}});
+      const bool joints_file = slice::read_header(in).kind == slice::FileKind::joints;
+      const slice::JointSystem js =
+          joints_file ? slice::read_joints(in) : slice::read_blocks(in).joints;
+      const slice::FabStats st = slice::write_fab(out, js);
+      t.say(std::to_string(st.fractures) + " fractures (" + std::to_string(st.persistent) +
+            " persistent joints clipped to the domain, " + std::to_string(st.left_out) +
+            " missing it left out), " + std::to_string(st.nodes) + " nodes, " +
+            std::to_string(st.sets) + " sets -> " + out);
+      t.exit_now();
+      return;
+    }
     if (!joints.empty() && format != "vtu")
       throw slice::Error("--joints", "is for --format vtu", "drop it or export VTU");
     if (!commands.empty() && format != "3dec")

@@ -55,13 +55,18 @@ int main(int argc, char** argv) {
     const std::uint64_t seed_value = seed ? parse_seed(*seed) : 0;
     tool::check_distinct_paths({{"scene", scene_file, false}, {"-o", out}});
     slice::Scene scene = slice::load_scene(scene_file);
-    // The files the scene names (mesh zones) are inputs too: -o on one would destroy it.
+    // The files the scene names (mesh zones, DFN files) are inputs too: -o on one would
+    // destroy it; the provenance hashes them beside the scene.
     std::vector<tool::PathArg> paths{{"scene", scene_file, false}, {"-o", out}};
-    for (const auto& mesh : scene.mesh_files) paths.push_back({"the [[zones]] mesh", mesh, false});
+    std::vector<std::string> named;
+    for (const auto& [what, file] : slice::scene_files(scene)) {
+      paths.push_back({what, file.string(), false});
+      named.push_back(file.string());
+    }
     tool::check_distinct_paths(paths);
     if (seed) scene.seed = seed_value;
     const slice::JointSystem js = slice::generate_joints(scene);
-    slice::write_joints(out, js, t.provenance(scene_file), t.write_options());
+    slice::write_joints(out, js, t.provenance(scene_file, named), t.write_options());
     std::size_t persistent = 0;
     for (const auto& j : js.joints) persistent += j.persistent() ? 1 : 0;
     t.say(std::to_string(js.joints.size()) + " joints (" + std::to_string(persistent) +

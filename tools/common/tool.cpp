@@ -170,8 +170,14 @@ slice::Progress Tool::progress() {
   };
 }
 
-slice::Provenance Tool::provenance(const std::string& input) const {
-  return {name_, slice::version(), command_line_, input, slice::sha256_file(input)};
+slice::Provenance Tool::provenance(const std::string& input,
+                                   const std::vector<std::string>& also) const {
+  slice::Provenance p{name_, slice::version(), command_line_, input, slice::sha256_file(input)};
+  for (const std::string& file : also) {
+    p.input += "; " + file;
+    p.input_sha256 += "; " + slice::sha256_file(file);
+  }
+  return p;
 }
 
 void Tool::exit_now() {

@@ -42,15 +42,18 @@ class Tool {
   int run(int argc, char** argv, const std::function<void()>& body);
   /// A progress callback drawing a bar on stderr (nothing if quiet or stderr is no terminal).
   slice::Progress progress();
-  /// Provenance for an output made from `input` (hash of its content).
-  slice::Provenance provenance(const std::string& input) const;
+  /// Provenance for an output made from `input` (hash of its content). `also`: the files
+  /// `input` names (a scene's meshes and DFN files): `input` and `input_sha256` then list each
+  /// file after the input, separated by "; " (docs/formats.md).
+  slice::Provenance provenance(const std::string& input,
+                               const std::vector<std::string>& also = {}) const;
   /// A line for people on stderr (suppressed by -q); control characters escaped.
   void say(const std::string& line) const;
   const std::string& name() const { return name_; }
   /// Ends a run that succeeded at once, exit code 0: call it last in the body, once every output
-  /// is written (it renames them into place, as run() does after the body). Freeing a million blocks one allocation at a time took 0.2-0.3 s per tool;
-  /// the system takes the memory back whole. Sanitizer builds return instead, so that
-  /// LeakSanitizer still checks the tools.
+  /// is written (it renames them into place, as run() does after the body). Freeing a million
+  /// blocks one allocation at a time took 0.2-0.3 s per tool; the system takes the memory back
+  /// whole. Sanitizer builds return instead, so that LeakSanitizer still checks the tools.
   void exit_now();
 
  private:

@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "slice/geometry.hpp"
@@ -90,19 +91,20 @@ struct SliceOptions {
 
 /// How a [[sets]] entry says how many joints it has (docs/design.md, "Stochastic joints").
 enum class SetIntensity {
-  spacing,  // regular persistent planes n . x = offset + k * spacing
-  density,  // Poisson process: centres per unit volume
-  count,    // this many joints that meet the domain
-  p32,      // joints until their area inside the domain per unit volume reaches p32
-  p10       // joints until those crossing the scanline per unit length reach p10
+  spacing,       // regular persistent planes n . x = offset + k * spacing
+  density,       // Poisson process: centres per unit volume
+  count,         // this many joints that meet the domain
+  p32,           // joints until their area inside the domain per unit volume reaches p32
+  p10,           // joints until those crossing the scanline per unit length reach p10
+  deterministic  // the joints are given: a [[dfn]] file's set, or [[joints]] with `set`
 };
 enum class SizeDistribution { persistent, fixed, lognormal, exponential, power_law };
 enum class JointShape { square, rectangle, polygon, ellipse };
 enum class EllipseFit { circumscribed, equal_area };
 
 /// Names in scene files and HDF5 attributes, indexed by the enums' values (a public contract).
-inline constexpr std::array<std::string_view, 5> kSetIntensityNames = {"spacing", "density",
-                                                                       "count", "p32", "p10"};
+inline constexpr std::array<std::string_view, 6> kSetIntensityNames = {
+    "spacing", "density", "count", "p32", "p10", "deterministic"};
 inline constexpr std::array<std::string_view, 5> kSizeDistributionNames = {
     "none", "fixed", "lognormal", "exponential", "power-law"};
 inline constexpr std::array<std::string_view, 4> kJointShapeNames = {"square", "rectangle",
@@ -231,8 +233,11 @@ struct Scene {
   int dimension = 3;                            // [scene] dimension: 2 for a section (x, z)
   Region domain;
   SliceOptions options;
-  std::vector<Joint> joints;  // [[joints]], in file order, then the construction joints of
-                              // [[zones]] tunnels with cut = true (tunnel.hpp), zone by zone
+  // [[joints]], in file order, then the fractures of [[dfn]] files (set: their file's set), then
+  // the construction joints of [[zones]] tunnels with cut = true (tunnel.hpp), zone by zone.
+  std::vector<Joint> joints;
+  // [[sets]], then the sets of [[dfn]] files, then the sets [[joints]] `set` names (intensity
+  // deterministic: their joints are given).
   std::vector<JointSetSpec> sets;
   RockSpec rock;
   std::vector<Region> zones;              // a [[zones]] tunnel may give several (tunnel_regions)
@@ -243,6 +248,8 @@ struct Scene {
   std::vector<EntryPlace> set_places;             // one per [[sets]] entry
   std::optional<SectionPlane> section;   // [section]: the 2-D scene is a section of 3-D sets
   std::vector<SectionTrace> set_traces;  // with a section: one per [[sets]] entry
+  // The [[dfn]] files read, in file order (for tools' same-file checks and provenance).
+  std::vector<std::filesystem::path> dfn_files;
 };
 
 /// The joint system of a rock mass: everything in joints.h5.
@@ -280,6 +287,10 @@ std::vector<SceneKeys> scene_keys();
 Scene load_scene(const std::filesystem::path& file);
 /// The same from a string; `name` stands for the file in messages.
 Scene parse_scene(const std::string& text, const std::filesystem::path& name);
+
+/// The files a scene names besides itself ([[zones]] meshes, [[dfn]] files), each with what
+/// names it: for the tools' same-file checks and provenance.
+std::vector<std::pair<std::string, std::filesystem::path>> scene_files(const Scene& scene);
 
 /// Generates every joint of the scene (sets expanded) in introduction order.
 JointSystem generate_joints(const Scene& scene);

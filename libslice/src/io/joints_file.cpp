@@ -341,7 +341,7 @@ Enum read_name(const Group& sg, const std::string& attr,
 void read_set_generation(const Group& sg, JointSetSpec& s) {
   if (!sg.has_attribute("intensity")) return;
   s.intensity = read_name<SetIntensity>(sg, "intensity", parse_set_intensity,
-                                        "spacing, density, count, p32 or p10");
+                                        "spacing, density, count, p32, p10 or deterministic");
   s.fisher_kappa = sg.read_attribute<double>("fisher_kappa");
   s.density = sg.read_attribute<double>("density");
   s.count = sg.read_attribute<std::int64_t>("count");

@@ -80,16 +80,41 @@ JointSystem generate_joints(const Scene& scene) {
                            std::int64_t group) {
     return i < places.size() ? places[i] : EntryPlace{1, group, static_cast<std::int64_t>(i)};
   };
+  // A joint keeps its set if it is a given one (deterministic: a [[dfn]] file's, or named by
+  // [[joints]] `set`); the sets below generate their own.
+  const auto given = [&](std::int32_t s) {
+    return s >= 0 && std::size_t(s) < js.sets.size() &&
+           js.sets[std::size_t(s)].intensity == SetIntensity::deterministic;
+  };
   for (std::size_t i = 0; i < scene.joints.size(); ++i) {
     js.joints.push_back(scene.joints[i]);
-    js.joints.back().set = -1;
+    if (!given(js.joints.back().set)) js.joints.back().set = -1;
     place.push_back(place_of(scene.joint_places, i, 0));
   }
   for (std::size_t s = 0; s < js.sets.size(); ++s) {
     JointSetSpec& spec = js.sets[s];
+    std::vector<const Joint*> mine;
+    if (spec.intensity == SetIntensity::deterministic) {
+      // Its mean orientation: that of the sum of its joints' upward normals.
+      Vec3 sum = Vec3::Zero();
+      for (std::size_t i = 0; i < scene.joints.size(); ++i)
+        if (js.joints[i].set == std::int32_t(s)) {
+          mine.push_back(&js.joints[i]);
+          sum += js.joints[i].plane.normal;
+        }
+      if (sum.norm() > 0) {
+        const DipAndDirection dd = dip_from_normal(sum);
+        spec.dip_deg = dd.dip_deg;
+        spec.dip_direction_deg = dd.dip_direction_deg;
+      }
+    }
     const Vec3 n = dip_normal(spec.dip_deg, spec.dip_direction_deg, scene.dimension);
     if (!spec.scanline_given) std::tie(spec.scanline_from, spec.scanline_to) = chord(box, mean, n);
     const std::size_t first = js.joints.size();
+    if (spec.intensity == SetIntensity::deterministic) {
+      measure_set(spec, mine, box);  // its joints are among the scene's, placed above
+      continue;
+    }
     if (spec.intensity != SetIntensity::spacing) {
       std::vector<Joint> joints =
           generate_stochastic_set(spec, s, scene.seed, box, scene.max_joints, where);
@@ -125,7 +150,6 @@ JointSystem generate_joints(const Scene& scene) {
       spec.stream_seed = set_stream_seed(scene.seed, s);  // recorded, though unused
       spec.candidates = static_cast<std::int64_t>(planes.size());
     }
-    std::vector<const Joint*> mine;
     for (std::size_t i = first; i < js.joints.size(); ++i) mine.push_back(&js.joints[i]);
     measure_set(spec, mine, box);
     place.resize(js.joints.size(), place_of(scene.set_places, s, 1));

@@ -480,6 +480,7 @@ void read_stochastic_intensity(const Tbl& t, const toml::node& in, bool finite, 
                "lengthen the scanline or raise p10");
       break;
     case SetIntensity::spacing:
+    case SetIntensity::deterministic:  // not a [[sets]] intensity
       break;
   }
 }

@@ -367,7 +367,9 @@ std::vector<SceneKeys> scene_keys() {
           {"zones", "planes", list(kPlaneKeys)},
           {"zones", "tunnel", list(kTunnelKeys)},
           {"rock", "", list(kRockKeys)},
-          {"section", "", list(kSectionKeys)}};
+          {"section", "", list(kSectionKeys)},
+          {"dfn", "", list(kDfnKeys)},
+          {"dfn", "sets", list(kDfnSetKeys)}};
 }
 
 namespace {
@@ -404,7 +406,7 @@ void check_top_tables(const Reader& r, const toml::table& root) {
     const toml::node& v = *root.get(bad->str());
     const bool is_array = v.is_array_of_tables();
     auto form = [](std::string_view n) {
-      const bool arr = n == "joints" || n == "sets" || n == "zones";
+      const bool arr = n == "joints" || n == "sets" || n == "zones" || n == "dfn";
       return (arr ? "[[" : "[") + std::string(n) + (arr ? "]]" : "]");
     };
     const std::string near = closest(bad->str(), kTopTables);
@@ -539,6 +541,19 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
                                           static_cast<std::int64_t>(joints.size() + i)));
   }
 
+  const auto dfns = multi("dfn");
+  for (std::size_t i = 0; i < dfns.size(); ++i) {
+    DfnEntry d =
+        read_dfn(cx, *dfns[i], i, static_cast<std::int64_t>(joints.size() + sets.size() + i), names,
+                 scene.sets.size());
+    std::move(d.joints.begin(), d.joints.end(), std::back_inserter(scene.joints));
+    std::move(d.places.begin(), d.places.end(), std::back_inserter(scene.joint_places));
+    std::move(d.sets.begin(), d.sets.end(), std::back_inserter(scene.sets));
+    std::move(d.set_places.begin(), d.set_places.end(), std::back_inserter(scene.set_places));
+    scene.dfn_files.push_back(d.file);
+  }
+  assign_joint_sets(cx, joints, scene);
+
   // A cut tunnel's joints come after every [[joints]] and [[sets]] entry unless given a stage:
   // the paper's order, construction joints after the rock joints (section 3.4).
   std::int64_t last_stage = 0;
@@ -546,8 +561,9 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
     for (const EntryPlace& p : *places) last_stage = std::max(last_stage, p.stage);
   const auto zones = multi("zones");
   for (std::size_t i = 0; i < zones.size(); ++i) {
-    ZoneEntry z = read_zone(cx, *zones[i], i, last_stage + 1,
-                            static_cast<std::int64_t>(joints.size() + sets.size() + i));
+    ZoneEntry z =
+        read_zone(cx, *zones[i], i, last_stage + 1,
+                  static_cast<std::int64_t>(joints.size() + sets.size() + dfns.size() + i));
     std::move(z.regions.begin(), z.regions.end(), std::back_inserter(scene.zones));
     if (z.mesh) {
       scene.zone_meshes.push_back(std::move(*z.mesh));
@@ -559,6 +575,13 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
     }
   }
   return scene;
+}
+
+std::vector<std::pair<std::string, std::filesystem::path>> scene_files(const Scene& scene) {
+  std::vector<std::pair<std::string, std::filesystem::path>> files;
+  for (const auto& f : scene.mesh_files) files.emplace_back("the [[zones]] mesh", f);
+  for (const auto& f : scene.dfn_files) files.emplace_back("the [[dfn]] file", f);
+  return files;
 }
 
 Scene load_scene(const std::filesystem::path& file) {

@@ -25,8 +25,8 @@
 namespace slice::scene_read {
 
 // The keys of each table of a scene file (docs/scenes.md).
-inline constexpr std::array<std::string_view, 8> kTopTables = {
-    "scene", "domain", "options", "joints", "sets", "zones", "rock", "section"};
+inline constexpr std::array<std::string_view, 9> kTopTables = {
+    "scene", "domain", "options", "joints", "sets", "zones", "rock", "section", "dfn"};
 inline constexpr std::array<std::string_view, 5> kSceneKeys = {"name", "seed", "tolerance",
                                                                "max_joints", "dimension"};
 inline constexpr std::array<std::string_view, 2> kRegionKeys = {"box", "planes"};
@@ -41,9 +41,9 @@ inline constexpr std::array<std::string_view, 2> kBoxKeys = {"min", "max"};
 inline constexpr std::array<std::string_view, 2> kPlaneKeys = {"normal", "d"};
 inline constexpr std::array<std::string_view, 6> kOptionKeys = {
     "order", "min_inscribed_diameter", "max_aspect_ratio", "max_blocks", "fixed_faces", "slivers"};
-inline constexpr std::array<std::string_view, 13> kJointKeys = {
-    "dip",      "dip_direction", "point", "polygon", "polygon_uv", "kind",   "friction_angle",
-    "cohesion", "keep",          "stage", "limits",  "segment",    "tension"};
+inline constexpr std::array<std::string_view, 14> kJointKeys = {
+    "dip",      "dip_direction", "point", "polygon", "polygon_uv", "kind",    "friction_angle",
+    "cohesion", "keep",          "stage", "limits",  "segment",    "tension", "set"};
 inline constexpr std::array<std::string_view, 24> kSetKeys = {
     "name",           "dip",      "dip_direction", "spacing", "offset", "kind", "keep",
     "friction_angle", "cohesion", "fisher_kappa",  "density", "count",  "p32",  "p10",
@@ -74,6 +74,18 @@ inline constexpr std::array<std::string_view, 4> kSizeNames = {"fixed", "lognorm
 inline constexpr std::int64_t kMaxSides = 1000;
 
 inline constexpr std::array<std::string_view, 2> kKeepNames = {"above", "below"};
+
+// [[dfn]] (dfn_entries.cpp): a DFN file's fractures, and what its joints get, for the whole file
+// or, in `sets`, per set of the file.
+inline constexpr std::array<std::string_view, 14> kDfnKeys = {
+    "file",   "format", "kind",  "keep", "friction_angle", "cohesion", "tension", "stage",
+    "limits", "order",  "sides", "fit",  "planarity",      "sets"};
+inline constexpr std::array<std::string_view, 7> kDfnSetKeys = {
+    "kind", "keep", "friction_angle", "cohesion", "tension", "stage", "limits"};
+inline constexpr std::array<std::string_view, 2> kDfnFormats = {"fab", "csv"};
+// A FAB fracture's nodes may lie this far (x its radius) from its plane: FAB files carry 6 to 9
+// significant digits, and a 1e-4 tilt changes no block a DEM model could tell apart.
+inline constexpr double kDefaultPlanarity = 1e-4;
 
 // ---------------------------------------------------------------------------------------------
 // Regions (domain, zones): scene.cpp
@@ -123,6 +135,23 @@ struct ZoneEntry {
   std::vector<Joint> joints;
   EntryPlace place;
 };
+
+// What a [[dfn]] entry makes: its fractures as joints (each in a set of the file), the file's
+// sets (intensity deterministic), their places, and the file read (for the tools' checks).
+struct DfnEntry {
+  std::vector<Joint> joints;
+  std::vector<EntryPlace> places;
+  std::vector<JointSetSpec> sets;
+  std::vector<EntryPlace> set_places;
+  std::filesystem::path file;
+};
+// `names`: the names of the sets before it; `first_set`: the index its first set will have.
+DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, std::int64_t entry,
+                  std::set<std::string>& names, std::size_t first_set);
+// The `set` keys of [[joints]] (tables[i] made scene.joints[i]): a set of a [[dfn]] file, or a
+// new set of that name, made by its first joint.
+void assign_joint_sets(const Context& cx, const std::vector<const toml::table*>& tables,
+                       Scene& scene);
 
 // A [[zones]] entry: box, planes, tunnel or mesh (zones.cpp).
 ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,

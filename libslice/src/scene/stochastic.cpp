@@ -318,6 +318,7 @@ double expected_candidates(const JointSetSpec& s, const DomainBox& region) {
   const double mean_area = persistent ? 0 : shape_area_factor(s) * size_mean_square(s.size);
   switch (s.intensity) {
     case SetIntensity::spacing:
+    case SetIntensity::deterministic:  // given joints: none drawn
       return 0;
     case SetIntensity::density:
       return s.density * v;
@@ -402,6 +403,7 @@ std::vector<Joint> generate_stochastic_set(JointSetSpec& spec, std::size_t index
       case SetIntensity::p10:
         return hits >= target_hits;
       case SetIntensity::spacing:
+      case SetIntensity::deterministic:
         break;
     }
     return true;

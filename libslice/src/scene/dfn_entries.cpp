@@ -1,0 +1,338 @@
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <numbers>
+#include <set>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include "scene_read.hpp"
+#include "slice/dfn.hpp"
+#include "slice/error.hpp"
+#include "slice/orientation.hpp"
+#include "slice/scene.hpp"
+
+// The [[dfn]] entries of a scene file (docs/scenes.md, docs/dfn.md): the fractures of a FAB or
+// CSV file as polygon joints, the file's sets as sets; and the `set` key of [[joints]].
+namespace slice::scene_read {
+
+namespace {
+
+// What a [[dfn]] entry or one of its `sets` gives its joints.
+struct DfnProps {
+  JointKind kind = JointKind::rock;
+  std::int8_t side = 0;
+  double friction = 30, cohesion = 0, tension = 0;
+  bool limits = true;
+  std::int64_t stage = 1;
+};
+
+// The keys of `t` over `p` (a file's values over the defaults, a set's over the file's).
+DfnProps read_props(const Tbl& t, DfnProps p) {
+  const Reader& r = t.r;
+  if (t.find("friction_angle")) {
+    p.friction = number(t, "friction_angle", 30);
+    check_range(t, "friction_angle", p.friction, 0, 90, true,
+                "give the friction angle in degrees, 0 <= friction_angle < 90");
+  }
+  p.cohesion = stress(t, "cohesion", p.cohesion);
+  p.tension = stress(t, "tension", p.tension);
+  if (const toml::node* k = t.find("kind"))
+    p.kind = static_cast<JointKind>(to_choice(r, *k, t.label("kind"), kJointKindNames));
+  if (const toml::node* n = t.find("limits")) {
+    const auto* b = n->as_boolean();
+    if (!b)
+      r.fail(*n, t.label("limits") + " must be true or false, not " + type_name(*n),
+             "write limits = false to exempt these cuts from the size and shape limits");
+    p.limits = b->get();
+  }
+  if (const toml::node* keep = t.find("keep")) {
+    if (p.kind != JointKind::boundary)
+      r.fail(*keep, t.label("keep") + " applies to boundary joints only",
+             "remove 'keep', or set kind = \"boundary\"");
+    p.side = to_choice(r, *keep, t.label("keep"), kKeepNames) == 0 ? 1 : -1;
+  } else if (p.kind == JointKind::boundary && p.side == 0) {
+    t.require("keep",
+              "add keep = \"above\" or \"below\": the side whose blocks become boundary "
+              "blocks");
+  }
+  if (p.kind != JointKind::boundary) p.side = 0;
+  if (t.find("stage")) p.stage = read_place(r, t.t, t.ctx, 0).stage;
+  return p;
+}
+
+void give(const DfnProps& p, Joint& j) {
+  j.kind = p.kind;
+  j.boundary_side = p.side;
+  j.friction_angle_deg = p.friction;
+  j.cohesion = p.cohesion;
+  j.tension = p.tension;
+  j.limits = p.limits;
+}
+
+// A set of given joints (intensity deterministic) with the properties of `like`, which its
+// joints share.
+JointSetSpec given_set(const std::string& name, const Joint& like) {
+  JointSetSpec spec;
+  spec.name = name;
+  spec.intensity = SetIntensity::deterministic;
+  spec.kind = like.kind;
+  spec.boundary_side = like.boundary_side;
+  spec.friction_angle_deg = like.friction_angle_deg;
+  spec.cohesion = like.cohesion;
+  spec.tension = like.tension;
+  spec.limits = like.limits;
+  return spec;
+}
+
+// Convexity of a polygon in its plane: repeated corners and corners on the edge between their
+// neighbours (within tol) are dropped, as clipped fractures have them; what is left must be a
+// convex polygon winding once. Made counter-clockwise. "" or why not.
+std::string make_convex(std::vector<Vec2>& p, double tol) {
+  bool dropped = true;
+  while (dropped && p.size() >= 3) {
+    dropped = false;
+    for (std::size_t i = 0; i < p.size() && p.size() >= 3; ++i) {
+      const std::size_t n = p.size();
+      const Vec2 a = p[(i + n - 1) % n], b = p[i], c = p[(i + 1) % n];
+      const Vec2 e1 = b - a, e2 = c - b;
+      const double chord = (c - a).norm();
+      const bool repeated = e1.norm() <= tol;
+      const bool on_edge =
+          chord > tol && std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / chord <= tol;
+      if (repeated || on_edge) {
+        p.erase(p.begin() + static_cast<std::ptrdiff_t>(i));
+        dropped = true;
+      }
+    }
+  }
+  if (p.size() < 3) return "has no area (its corners lie on one line)";
+  const std::size_t n = p.size();
+  double area2 = 0, turning = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    area2 += p[i].x() * p[(i + 1) % n].y() - p[i].y() * p[(i + 1) % n].x();
+  const int sign = area2 > 0 ? 1 : -1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 e1 = p[i] - p[(i + n - 1) % n], e2 = p[(i + 1) % n] - p[i];
+    const double cross = e1.x() * e2.y() - e1.y() * e2.x();
+    if ((cross > 0 ? 1 : -1) != sign) return "is not convex at its corner " + std::to_string(i + 1);
+    turning += std::atan2(cross, e1.dot(e2));
+  }
+  if (std::abs(turning) > 3 * std::numbers::pi) return "crosses itself";
+  if (sign < 0) std::reverse(p.begin(), p.end());
+  return "";
+}
+
+// The joint of a FAB fracture: the plane that fits its nodes best (through their mean, normal
+// the direction of least spread, as for a [[joints]] polygon), its nodes within `planarity` x
+// its radius (and at least the scene's tolerance) of it. "" or why not.
+std::string polygon_joint(const std::vector<Vec3>& xs, double tol, double planarity, Joint& j) {
+  Vec3 mean = Vec3::Zero();
+  for (const auto& x : xs) mean += x;
+  mean /= static_cast<double>(xs.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  double radius = 0;
+  for (const auto& x : xs) {
+    cov += (x - mean) * (x - mean).transpose();
+    radius = std::max(radius, (x - mean).norm());
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  const Vec3 best = es.eigenvectors().col(0);
+  const double ptol = std::max(tol, planarity * radius);
+  for (std::size_t i = 0; i < xs.size(); ++i)
+    if (const double off = std::abs(best.dot(xs[i] - mean)); off > ptol)
+      return "is not planar: node " + std::to_string(i + 1) + " is " + fmt(off, 6) +
+             " from the plane that fits its nodes best, more than the tolerance " + fmt(ptol, 3) +
+             " (planarity " + fmt(planarity, 3) + " x its radius " + fmt(radius, 6) + ")";
+  const DipAndDirection dd = dip_from_normal(best);
+  const JointFrame frame = plane_frame(dd.dip_deg, dd.dip_direction_deg);
+  j.dip_deg = dd.dip_deg;
+  j.dip_direction_deg = dd.dip_direction_deg;
+  j.centre = mean;
+  j.plane = {frame.n, frame.n.dot(mean)};
+  for (const auto& x : xs) j.polygon_uv.push_back(frame.to_uv(mean, x));
+  return make_convex(j.polygon_uv, ptol);  // the digits that bent it may also bend an edge
+}
+
+DfnFile read_file_of(const Context& cx, const Tbl& t, const toml::node& node,
+                     const std::filesystem::path& file) {
+  const Reader& r = cx.r;
+  std::string format;
+  if (const toml::node* n = t.find("format"))
+    format = kDfnFormats[to_choice(r, *n, t.label("format"), kDfnFormats)];
+  else {
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    if (ext != ".fab" && ext != ".csv")
+      r.fail(node, t.label("file") + " names " + file.string() + ", neither .fab nor .csv",
+             "add format = \"fab\" or \"csv\"");
+    format = ext.substr(1);
+  }
+  DfnCsvOptions csv;
+  if (const toml::node* n = t.find("sides")) {
+    csv.sides = to_integer(r, *n, t.label("sides"));
+    if (csv.sides < 3 || csv.sides > kMaxSides)
+      r.fail(*n,
+             t.label("sides") + " is " + std::to_string(csv.sides) + ", outside [3, " +
+                 std::to_string(kMaxSides) + "]",
+             "give the number of corners of a disc's polygon");
+  }
+  if (const toml::node* n = t.find("fit"))
+    csv.fit = static_cast<EllipseFit>(to_choice(r, *n, t.label("fit"), kEllipseFitNames));
+  if (format == "fab")
+    for (const char* key : {"sides", "fit"})
+      if (const toml::node* n = t.find(key))
+        r.fail(*n, t.label(key) + " applies to CSV files of discs; a FAB file gives polygons",
+               "remove " + quote_key(key));
+  try {
+    return format == "fab" ? read_fab(file) : read_dfn_csv(file, csv, file.stem().string());
+  } catch (const Error& e) {  // its own fix: one per line
+    r.fail(node, t.label("file") + ": " + e.where() + ": " + e.problem(), e.fix());
+  }
+}
+
+}  // namespace
+
+DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, std::int64_t entry,
+                  std::set<std::string>& names, std::size_t first_set) {
+  const Reader& r = cx.r;
+  const Tbl t{r, tt, "[[dfn]] #" + std::to_string(index + 1)};
+  t.check_keys(kDfnKeys);
+  const toml::node& node = t.require("file", "add file = \"network.fab\" (or a .csv of discs)");
+  if (cx.dimension == 2)
+    r.fail(node, t.ctx + ": a DFN file holds 3-D fractures, and this is a 2-D scene",
+           "give a 2-D scene's joints as [[joints]] segments or [[sets]]");
+  const std::filesystem::path given = to_text(r, node, t.label("file"));
+  DfnEntry d;
+  d.file = given.is_absolute() ? given : cx.dir / given;
+  const DfnFile dfn = read_file_of(cx, t, node, d.file);
+  const std::string in_file = t.label("file") + ": " + d.file.string();
+
+  const DfnProps base = read_props(t, DfnProps{});
+  std::vector<DfnProps> props(dfn.sets.size(), base);
+  if (const toml::node* sn = t.find("sets")) {
+    const Tbl st{r,
+                 as_table(r, *sn, t.label("sets"), "write sets = { J1 = { friction_angle = 25 } }"),
+                 "'sets' of " + t.ctx};
+    std::vector<std::string_view> known(dfn.sets.begin(), dfn.sets.end());
+    st.check_keys(known);
+    for (std::size_t s = 0; s < dfn.sets.size(); ++s)
+      if (const toml::node* one = st.find(dfn.sets[s])) {
+        const Tbl set{r, as_table(r, *one, st.label(dfn.sets[s]), "write { friction_angle = 25 }"),
+                      "set \"" + dfn.sets[s] + "\" of " + t.ctx};
+        set.check_keys(kDfnSetKeys);
+        props[s] = read_props(set, base);
+      }
+  }
+  const double planarity =
+      t.find("planarity")
+          ? positive(
+                t, "planarity",
+                "give the largest distance of a node from its fracture's plane, relative to the "
+                "fracture's radius, e.g. 1e-4")
+          : kDefaultPlanarity;
+
+  for (const DfnFracture& f : dfn.fractures) {
+    Joint j;
+    if (f.disc) {
+      const JointFrame frame = plane_frame(f.dip_deg, f.dip_direction_deg);
+      j.dip_deg = f.dip_deg;
+      j.dip_direction_deg = f.dip_direction_deg;
+      j.centre = f.centre;
+      j.plane = {frame.n, frame.n.dot(f.centre)};
+      j.polygon_uv = f.polygon_uv;
+      double reach = 0;  // the disc's polygon's size: a radius of 1e-300 or 1e308 is a slip
+      bool finite = true;
+      for (const Vec2& uv : j.polygon_uv) {
+        finite = finite && uv.allFinite();
+        reach = std::max(reach, uv.norm());
+      }
+      if (!finite || !(reach > cx.tol()))
+        r.fail(node,
+               in_file + ":" + std::to_string(f.line) + ": disc " + f.id + " reaches " +
+                   fmt(reach, 3) + " from its centre, not a size between the tolerance " +
+                   fmt(cx.tol(), 3) + " and a finite length",
+               "check the radius and its unit against the domain's");
+    } else if (const std::string why = polygon_joint(f.nodes, cx.tol(), planarity, j);
+               !why.empty()) {
+      r.fail(node, in_file + ":" + std::to_string(f.line) + ": fracture " + f.id + " " + why,
+             "correct the fracture's nodes, or raise 'planarity' in " + t.ctx +
+                 " if they carry few digits");
+    }
+    give(props[f.set], j);
+    j.set = static_cast<std::int32_t>(first_set + f.set);
+    d.joints.push_back(std::move(j));
+  }
+  // The file's own order (as-given), or sorted within the entry by `order`.
+  if (const toml::node* n = t.find("order")) {
+    const auto order =
+        static_cast<JointOrder>(to_choice(r, *n, t.label("order"), kJointOrderNames));
+    std::vector<EntryPlace> by(d.joints.size());
+    for (std::size_t i = 0; i < d.joints.size(); ++i)
+      by[i] = {1, order == JointOrder::largest_first ? 0 : std::int64_t{d.joints[i].set}, 0};
+    order_joints(d.joints, order, by);
+  }
+  const EntryPlace place = read_place(r, tt, t.ctx, entry);
+  for (const Joint& j : d.joints)
+    d.places.push_back({props[std::size_t(j.set) - first_set].stage, place.line, place.entry});
+  for (std::size_t s = 0; s < dfn.sets.size(); ++s) {
+    if (!names.insert(dfn.sets[s]).second)
+      r.fail(node, in_file + ": its set \"" + dfn.sets[s] + "\" has the name of another set",
+             "rename one of them (in the file, or the other set's name)");
+    Joint like;
+    give(props[s], like);
+    d.sets.push_back(given_set(dfn.sets[s], like));
+    d.set_places.push_back({props[s].stage, place.line, place.entry});
+  }
+  return d;
+}
+
+void assign_joint_sets(const Context& cx, const std::vector<const toml::table*>& tables,
+                       Scene& scene) {
+  const Reader& r = cx.r;
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    const toml::node* n = tables[i]->get("set");
+    if (!n) continue;
+    const std::string label = quote_key("set") + " in [[joints]] #" + std::to_string(i + 1);
+    const std::string name = to_text(r, *n, label);
+    Joint& j = scene.joints[i];
+    auto it = std::find_if(scene.sets.begin(), scene.sets.end(),
+                           [&](const JointSetSpec& s) { return s.name == name; });
+    if (it != scene.sets.end() && it->intensity != SetIntensity::deterministic)
+      r.fail(*n, label + " names the [[sets]] entry \"" + name + "\", whose joints are generated",
+             "give the joint a set of its own name, or the name of a [[dfn]] file's set");
+    if (it == scene.sets.end()) {  // the first joint of a new set gives it its properties
+      scene.sets.push_back(given_set(name, j));
+      scene.set_places.push_back(scene.joint_places[i]);
+      it = scene.sets.end() - 1;
+    }
+    // 3DEC gives a joint set one set of properties (export_3dec.hpp): its joints share them.
+    const JointSetSpec& s = *it;
+    std::string differs;
+    if (j.kind != s.kind)
+      differs =
+          "kind " + std::string(to_string(j.kind)) + " (the set's: " + to_string(s.kind) + ")";
+    else if (j.friction_angle_deg != s.friction_angle_deg)
+      differs = "friction_angle " + fmt(j.friction_angle_deg) +
+                " (the set's: " + fmt(s.friction_angle_deg) + ")";
+    else if (j.cohesion != s.cohesion)
+      differs = "cohesion " + fmt(j.cohesion) + " (the set's: " + fmt(s.cohesion) + ")";
+    else if (j.tension != s.tension)
+      differs = "tension " + fmt(j.tension) + " (the set's: " + fmt(s.tension) + ")";
+    else if (j.boundary_side != s.boundary_side)
+      differs = "keep (the set's differs)";
+    if (!differs.empty())
+      r.fail(*n, label + ": the joint's " + differs + " differs from set \"" + name + "\"",
+             "a set's joints share kind, keep, friction_angle, cohesion and tension (3DEC gives "
+             "each joint set one set of properties): make them equal, or name another set");
+    j.set = static_cast<std::int32_t>(it - scene.sets.begin());
+  }
+}
+
+}  // namespace slice::scene_read
