@@ -16,8 +16,8 @@
 #include "slice/error.hpp"
 #include "slice/orientation.hpp"
 #include "slice/output.hpp"
+#include "slice/polytope.hpp"
 #include "slice/version.hpp"
-#include "slice/vertices.hpp"
 
 namespace slice {
 namespace {
