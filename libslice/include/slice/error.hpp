@@ -5,7 +5,6 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <utility>
 
 namespace slice {
 
@@ -25,11 +24,6 @@ struct Error : std::runtime_error {
 
 /// `s` with every control character escaped ("\n", "\t", "\x1b", ...): one printable line.
 std::string escape_control(std::string_view s);
-
-/// The UTF-8 sequence at text[i] (i < text.size()): its code point and length, or length 0 if
-/// it is malformed (cut short, overlong, a surrogate, past U+10FFFF: what Python and toml++
-/// refuse too).
-std::pair<char32_t, std::size_t> decode_utf8(std::string_view text, std::size_t i);
 
 [[noreturn]] void assert_fail(const char* expr, const char* file, int line);
 

@@ -15,6 +15,7 @@
 #include "../io/h5/h5.hpp"
 #include "slice/error.hpp"
 #include "slice/output.hpp"
+#include "slice/utf8.hpp"
 #include "slice/version.hpp"
 
 namespace slice {

@@ -29,6 +29,7 @@
 #include "slice/polytope.hpp"
 #include "slice/stochastic.hpp"
 #include "slice/tunnel.hpp"
+#include "slice/utf8.hpp"
 
 namespace slice {
 
