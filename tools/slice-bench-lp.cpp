@@ -22,7 +22,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <numbers>
@@ -34,6 +33,7 @@
 #include "common/tool.hpp"
 #include "slice/error.hpp"
 #include "slice/lp.hpp"
+#include "slice/output.hpp"
 
 namespace {
 
@@ -257,16 +257,15 @@ int main(int argc, char** argv) {
       }
     }
 
-    std::ofstream csv(out);
-    if (!csv) throw slice::Error(out, "cannot open for writing", "check the directory exists");
+    // Written atomically (output.hpp): a full disk leaves no half CSV and names its reason.
+    std::ostringstream csv;
     csv << "backend,problem,rows,count,median_us,p90_us,max_abs_err,wrong_decisions\n";
     csv << std::setprecision(6);
     for (const Row& r : table)
       csv << r.backend << ',' << to_string(r.problem) << ',' << r.rows << ',' << r.lps << ','
           << percentile(r.us, 0.5) << ',' << percentile(r.us, 0.9) << ','
           << (r.backend == "exact" ? 0.0 : r.max_abs_err) << ',' << r.wrong << '\n';
-    csv.close();
-    if (!csv) throw slice::Error(out, "write failed", "check the disk");
+    slice::write_text_file(out, csv.str());
 
     // Speed-ups per set, for people.
     for (const Row& r : table) {

@@ -12,46 +12,22 @@
 // anyway: an identifier we forget to close keeps its memory reachable from HDF5's tables. So
 // after each input the harness checks that no HDF5 object is left open.
 #include <hdf5.h>
-#include <unistd.h>
 
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <filesystem>
 #include <string>
 
+#include "fuzz_input.hpp"
 #include "slice/error.hpp"
 #include "slice/h5io.hpp"
 
-namespace {
-
-std::filesystem::path& input_path() {
-  static std::filesystem::path path;
-  return path;
-}
-
-void remove_input() {
-  std::error_code ec;
-  std::filesystem::remove(input_path(), ec);
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
-  // One file per process (libFuzzer's -jobs/-fork run several), removed at exit.
-  input_path() = std::filesystem::temp_directory_path() /
-                 ("rockslice-fuzz-h5-" + std::to_string(::getpid()) + ".h5");
-  std::atexit(remove_input);
+  fuzz::set_input_name("h5.h5");
   return 0;
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::filesystem::path& path = input_path();
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (f == nullptr) std::abort();  // the harness cannot work: stop loudly
-  if (size > 0 && std::fwrite(data, 1, size, f) != size) std::abort();
-  if (std::fclose(f) != 0) std::abort();
+  const std::filesystem::path& path = fuzz::write_input(data, size);
   try {
     (void)slice::read_header(path);
   } catch (const slice::Error&) {
@@ -65,9 +41,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const slice::Error&) {
   }
   const ssize_t open = H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL);
-  if (open != 0) {
-    std::fprintf(stderr, "fuzz_h5: %zd HDF5 objects left open after reading the input\n", open);
-    std::abort();
-  }
+  if (open != 0)
+    fuzz::finding("fuzz_h5", std::to_string(open) + " HDF5 objects left open after reading");
   return 0;
 }

@@ -1,8 +1,11 @@
 #!/usr/bin/python3
-"""Makes the HDF5 seed corpus of fuzz_h5 (tests/fuzz/corpus/h5/): the files the tools write
+"""Makes the HDF5 seed corpora of fuzz_h5 (tests/fuzz/corpus/h5/): the files the tools write
 from a small scene (joints, blocks, pruned blocks, blocks with /geometry) and a few crafted
 variants that the readers must refuse with a message (other element types, shapes, string
-layouts, storage). Run by hand after a schema change, with the release tools built:
+layouts, storage); and of fuzz_export (corpus/export/): geom.h5 files of small scenes that the
+exporters write, with names that must not break a script, a [rock] table (rock bridges), a 2-D
+section, and a scene name that is no UTF-8. Run by hand after a schema change, with the
+release tools built:
 
     /usr/bin/python3 tests/fuzz/make_h5_corpus.py [build/tools]
 
@@ -19,6 +22,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "corpus", "h5")
+OUT_EXPORT = os.path.join(HERE, "corpus", "export")
 
 # A small scene that still fills every group: a regular and a stochastic set, a polygon
 # joint, a boundary joint (boundary blocks), a construction joint (clusters) and a zone.
@@ -53,6 +57,58 @@ size = { distribution = "fixed", value = 2 }
 [[zones]]
 box = { min = [0, 0, 1.5], max = [1, 1, 2] }
 """
+
+
+# The same scene with a [rock] table and a finite rock joint (rock-bridge contacts in 3DEC), and
+# names that must stay inside their strings and comments: quotes, a backslash, line breaks
+# ("\r" ends a Python line too), a bell.
+SCENE_NAMES = SCENE.replace("seed = 3", r'''seed = 3
+name = "it's \"quoted\" \\ a\rb\nc \u0007 \u00e9"''').replace(
+    'name = "s"', r'name = "s\r\nimport os"') + """
+[[joints]]
+dip = 60
+dip_direction = 300
+point = [2, 2, 1]
+polygon_uv = [[-0.8, -0.8], [0.8, -0.8], [0.8, 0.8], [-0.8, 0.8]]
+[rock]
+friction_angle = 50
+cohesion = 3e6
+tension = 1.5e6
+"""
+
+# A 2-D section (docs/2d.md): the YADE export writes prisms, the 3DEC export refuses it.
+SECTION = """\
+[scene]
+dimension = 2
+[domain]
+box = { min = [0, 0], max = [4, 3] }
+[[joints]]
+dip = 0
+dip_direction = 0
+point = [0, 0.5]
+kind = "boundary"
+keep = "below"
+[[sets]]
+name = "a"
+dip = 60
+dip_direction = 90
+spacing = 1.5
+[[sets]]
+name = "b"
+dip = 30
+dip_direction = 270
+spacing = 2
+"""
+
+
+def geometry_of(tools, scene, tmp, name):
+    """geom.h5 of `scene` (text) by the real tools, as corpus/export/<name>."""
+    with open(os.path.join(tmp, "scene.toml"), "w") as f:
+        f.write(scene)
+    run(tools, "slice-joints", "scene.toml", "-o", "j.h5", cwd=tmp)
+    run(tools, "slice-cut", "j.h5", "--prune", "-o", "p.h5", cwd=tmp)
+    run(tools, "slice-vertices", "p.h5", "-o", "g.h5", cwd=tmp)
+    shutil.copyfile(os.path.join(tmp, "g.h5"), os.path.join(OUT_EXPORT, name))
 
 
 def run(tools, tool, *args, cwd):
@@ -119,8 +175,19 @@ def main():
         for name in list(f.keys()):
             del f[name]
     craft(j, out("header-only.h5"), header_only)
-    total = sum(os.path.getsize(os.path.join(OUT, n)) for n in os.listdir(OUT))
-    print(f"{len(os.listdir(OUT))} files, {total} bytes in {OUT}")
+    os.makedirs(OUT_EXPORT, exist_ok=True)
+    shutil.copyfile(g, os.path.join(OUT_EXPORT, "geom.h5"))
+    with tempfile.TemporaryDirectory() as tmp:
+        geometry_of(tools, SCENE_NAMES, tmp, "geom-names-rock.h5")
+        geometry_of(tools, SECTION, tmp, "geom-section.h5")
+    # A scene name that is no UTF-8 (a damaged file; a scene file cannot give one).
+    def bad_utf8_name(f):
+        del f.attrs["name"]
+        f.attrs.create("name", np.bytes_(b"bad \xff\xfe utf-8 \xed\xa0\x80"))
+    craft(g, os.path.join(OUT_EXPORT, "geom-name-not-utf8.h5"), bad_utf8_name)
+    for out_dir in [OUT, OUT_EXPORT]:
+        total = sum(os.path.getsize(os.path.join(out_dir, n)) for n in os.listdir(out_dir))
+        print(f"{len(os.listdir(out_dir))} files, {total} bytes in {out_dir}")
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 #pragma once
 // Small exact-enough polytope helpers for regions given by a few half-spaces (domains, zones):
-// vertex enumeration by plane triples. O(n^4); meant for tens of planes, not for blocks.
+// vertex enumeration by plane triples. O(n^4); meant for tens of planes, not for blocks. Also
+// the two polygon helpers the vertices and the exports share (no LP or CGAL behind them).
 #include <span>
 #include <string>
 #include <vector>
@@ -32,5 +33,12 @@ std::string precision_problem(const Vec3& lo, const Vec3& hi, double tol,
 
 /// Six planes of the box [min, max], outward normals, in the order -x +x -y +y -z +z.
 std::vector<Plane> box_planes(const Vec3& min, const Vec3& max);
+
+/// Newell's vector of a polygon: its normal times twice its area (right-handed about the loop).
+Vec3 newell_normal(const std::vector<Vec3>& polygon);
+
+/// The convex polygon `polygon` clipped by the half-space `h` (normal . x <= d); vertices in
+/// order. Sutherland-Hodgman; points on the plane are kept.
+std::vector<Vec3> clip_polygon(const std::vector<Vec3>& polygon, const Plane& h);
 
 }  // namespace slice

@@ -16,6 +16,7 @@
 
 #include "slice/geometry.hpp"
 #include "slice/h5io.hpp"
+#include "slice/polytope.hpp"  // newell_normal, clip_polygon
 #include "slice/progress.hpp"
 #include "slice/tolerance.hpp"
 
@@ -59,13 +60,6 @@ struct MassProperties {
 MassProperties mass_properties(const std::vector<Vec3>& vertices,
                                const std::vector<std::vector<std::int64_t>>& loops,
                                const Vec3& about);
-
-/// Newell's vector of a polygon: its normal times twice its area (right-handed about the loop).
-Vec3 newell_normal(const std::vector<Vec3>& polygon);
-
-/// The convex polygon `polygon` clipped by the half-space `h` (normal . x <= d); vertices in
-/// order. Sutherland-Hodgman; points on the plane are kept.
-std::vector<Vec3> clip_polygon(const std::vector<Vec3>& polygon, const Plane& h);
 
 struct GeometryStats {
   std::size_t blocks = 0, vertices = 0, faces = 0;

@@ -17,8 +17,8 @@
 #include "slice/export_udec.hpp"
 #include "slice/orientation.hpp"
 #include "slice/output.hpp"
+#include "slice/polytope.hpp"
 #include "slice/version.hpp"
-#include "slice/vertices.hpp"
 
 namespace slice {
 namespace {

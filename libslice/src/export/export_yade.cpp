@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <ostream>
@@ -14,6 +15,7 @@
 #include "../io/h5/h5.hpp"
 #include "slice/error.hpp"
 #include "slice/output.hpp"
+#include "slice/utf8.hpp"
 #include "slice/version.hpp"
 
 namespace slice {
@@ -33,17 +35,29 @@ std::string vec(const Vec3& v) {
   return s.append(")");
 }
 
-// A Python string literal of any text (file names in comments are not enough: they may hold
-// quotes or newlines).
+// A Python string literal of any bytes (a file name, a scene name from a damaged file): quote
+// and backslash escaped; control characters as \xNN, since Python ends a source line at "\r"
+// as at "\n" and refuses NUL; bytes that are no UTF-8 (Python reads the script as UTF-8) as
+// \udcNN, Python's surrogateescape, so that os.fsencode() gives a file name's bytes back.
 std::string py_str(const std::string& s) {
   std::string q = "'";
-  for (const char c : s) {
-    if (c == '\\' || c == '\'') q += '\\';
-    if (c == '\n') {
-      q += "\\n";
+  for (std::size_t i = 0; i < s.size();) {
+    const auto u = static_cast<unsigned char>(s[i]);
+    const std::size_t len = decode_utf8(s, i).second;
+    if (len > 1) {
+      q.append(s, i, len);
+      i += len;
       continue;
     }
-    q += c;
+    ++i;
+    if (len == 1 && u >= 0x20 && u != 0x7f) {
+      if (u == '\\' || u == '\'') q += '\\';
+      q += char(u);
+      continue;
+    }
+    std::array<char, 8> buf{};
+    std::snprintf(buf.data(), buf.size(), len == 1 ? "\\x%02x" : "\\udc%02x", unsigned(u));
+    q += buf.data();
   }
   return q + "'";
 }

@@ -157,4 +157,24 @@ std::string precision_problem(const Vec3& lo, const Vec3& hi, double tol, const 
   return buf;
 }
 
+Vec3 newell_normal(const std::vector<Vec3>& polygon) {
+  Vec3 s = Vec3::Zero();
+  for (std::size_t k = 0; k < polygon.size(); ++k)
+    s += polygon[k].cross(polygon[(k + 1) % polygon.size()]);
+  return s;
+}
+
+std::vector<Vec3> clip_polygon(const std::vector<Vec3>& polygon, const Plane& h) {
+  std::vector<Vec3> out;
+  const std::size_t n = polygon.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3& a = polygon[k];
+    const Vec3& b = polygon[(k + 1) % n];
+    const double da = h.distance(a), db = h.distance(b);
+    if (da <= 0) out.push_back(a);
+    if ((da < 0 && db > 0) || (da > 0 && db < 0)) out.push_back(a + (b - a) * (da / (da - db)));
+  }
+  return out;
+}
+
 }  // namespace slice

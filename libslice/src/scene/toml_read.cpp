@@ -6,6 +6,8 @@
 #include <sstream>
 #include <utility>
 
+#include "slice/utf8.hpp"
+
 namespace slice::scene_read {
 
 std::string fmt(double x, int digits) {
@@ -119,21 +121,6 @@ constexpr char32_t kShelter = 0xF0000;
 bool toml_unsafe(char32_t c) {
   return (c >= 0xA1 && c <= 0x499) || (c >= 0x2C5E && c <= 0x3057 && c != 0x3000) ||
          (c >= 0xFB26 && c <= 0xFEFE);
-}
-
-// The UTF-8 sequence at text[i]: its code point and length, or length 0 if malformed.
-std::pair<char32_t, std::size_t> decode_utf8(std::string_view text, std::size_t i) {
-  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
-  const unsigned char b = byte(i);
-  if (b < 0x80) return {b, 1};
-  const std::size_t len = b >= 0xF8 ? 0 : b >= 0xF0 ? 4 : b >= 0xE0 ? 3 : b >= 0xC2 ? 2 : 0;
-  if (len == 0 || i + len > text.size()) return {0, 0};
-  char32_t c = b & (0x7Fu >> len);
-  for (std::size_t k = 1; k < len; ++k) {
-    if ((byte(i + k) & 0xC0) != 0x80) return {0, 0};
-    c = (c << 6) | (byte(i + k) & 0x3Fu);
-  }
-  return {c, len};
 }
 
 void append_utf8(std::string& out, char32_t c) {
