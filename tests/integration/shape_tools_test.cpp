@@ -94,7 +94,7 @@ TEST_CASE("slice-info: a 2-D section has no shape summary", "[tools][block-shape
   CHECK(j["shape"].is_null());
 }
 
-TEST_CASE("pipelines/plot draws the block shape diagram; its factors are the library's",
+TEST_CASE("pipelines/plot draws the block shape diagram, and its factors are the library's",
           "[tools][block-shape][plot]") {
   // pipelines/setup installs h5py and matplotlib: without them this test fails, not skips.
   REQUIRE(test::run_shell("/usr/bin/python3 -c 'import h5py, matplotlib' >/dev/null 2>&1") == 0);

@@ -70,7 +70,9 @@ def test_yade_bodies_in_process_equal_the_exported_script(scene, steps, tmp_path
             assert (k in x) == (k in y), (x['id'], k)
             if k in x:
                 assert x[k] == pytest.approx(y[k], rel=1e-13, abs=0), (x['id'], k)
-        assert np.allclose(x['pos'], y['pos'], rtol=0, atol=1e-9 * model.length_scale)
+        # After the steps: a one-ulp mass difference grows in the contacts (seen: 5e-11 of the
+        # coordinates after 20 steps on rock-slope); a misplaced body would be off by its size.
+        assert np.allclose(x['pos'], y['pos'], rtol=0, atol=1e-6 * model.length_scale)
     # The rules, checked on the in-process bodies: fixed blocks held, friction by the rule.
     friction = model.friction_deg()
     fixed = model.fixed
