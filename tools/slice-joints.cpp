@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
     slice::Scene scene = slice::load_scene(scene_file);
     // The files the scene names (mesh zones) are inputs too: -o on one would destroy it.
     std::vector<tool::PathArg> paths{{"scene", scene_file, false}, {"-o", out}};
-    for (const auto& mesh : scene.mesh_files) paths.push_back({"the [[zones]] mesh", mesh, false});
+    for (const auto& mesh : scene.mesh_files)
+      paths.push_back({"the [[zones]] mesh or surface", mesh, false});
     tool::check_distinct_paths(paths);
     if (seed) scene.seed = seed_value;
     const slice::JointSystem js = slice::generate_joints(scene);
