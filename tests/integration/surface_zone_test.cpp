@@ -12,6 +12,7 @@
 
 #include "slice/h5io.hpp"
 #include "slice/vertices.hpp"
+#include "support/pipeline.hpp"
 #include "support/support.hpp"
 
 using Catch::Matchers::Contains;
@@ -60,15 +61,15 @@ double height_at(const std::vector<Tri>& surface, const Vec2& p) {
 std::string scene(const std::string& box, const std::string& zone) {
   return "[scene]\nname = \"topo\"\n[domain]\nbox = " + box + R"(
 [[sets]]
-name = "A"
-dip = 10
-dip_direction = 30
-spacing = 3.1
+name = "bedding"
+dip = 15
+dip_direction = 40
+spacing = 2.9
 [[sets]]
-name = "B"
-dip = 80
-dip_direction = 120
-spacing = 3.3
+name = "joints"
+dip = 75
+dip_direction = 130
+spacing = 3.4
 [[zones]]
 )" + zone +
          "\n";
@@ -268,12 +269,7 @@ TEST_CASE("an ESRI ASCII grid surface: centres, the SW-NE diagonal, no-data outs
 TEST_CASE("data/topo-slope.toml keeps exactly the rock below its bundled grid",
           "[tools][zones][surface]") {
   test::TempDir tmp;
-  const auto j = (tmp / "j.h5").string(), b = (tmp / "b.h5").string(), g = (tmp / "g.h5").string();
-  const auto r = run_tool("slice-joints", {test::data_path("topo-slope.toml").string(), "-o", j});
-  INFO(r.err);
-  REQUIRE(r.exit_code == 0);
-  REQUIRE(run_tool("slice-cut", {j, "-o", b, "--prune"}).exit_code == 0);
-  REQUIRE(run_tool("slice-vertices", {b, "-o", g}).exit_code == 0);
+  const std::string g = test::run_pipeline(tmp, "topo-slope.toml", test::Stage::geometry);
   const auto bs = slice::read_blocks(g);
   double kept = 0;
   for (std::size_t i = 0; i < bs.blocks.size(); ++i)
@@ -361,11 +357,10 @@ TEST_CASE("bad surface zones are refused by slice-joints with one line, nothing 
     test::write_text(tmp / c.file, c.text);
     test::write_text(tmp / "s.toml", scene(c.box, "surface = \"" + c.file + "\""));
     const auto out = (tmp / "j.h5").string();
-    const auto r = run_tool("slice-joints", {(tmp / "s.toml").string(), "-o", out});
-    CHECK(r.exit_code == 1);
-    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-    CHECK_THAT(r.err, Contains("s.toml:"));
-    for (const auto& w : c.words) CHECK_THAT(r.err, Contains(w));
+    std::vector<std::string> words = c.words;
+    words.push_back("s.toml:");
+    test::check_refused(run_tool("slice-joints", {(tmp / "s.toml").string(), "-o", out}),
+                        "slice-joints", words);
     CHECK_FALSE(test::fs::exists(out));
   }
   // The surface is an input: -o onto it is refused, and it is left as it was.
