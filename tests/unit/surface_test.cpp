@@ -123,11 +123,28 @@ TEST_CASE("height fields: orientation, overlaps, cover, and the solid above", "[
   CHECK(up.triangles[1] == std::array<std::int64_t, 3>{0, 2, 3});  // turned counter-clockwise
   // The solid above up to z = 10: volume = 10 - mean height (2.5) over the unit square.
   const slice::TriangleMesh solid = slice::solid_above(up, 10);
-  CHECK(solid.triangles.size() == 2 + 2 + 2 * 4);
+  CHECK(solid.triangles.size() == 2 + 4 + 2 * 4);  // the lid: a fan of the 4 border edges
   CHECK_THAT(slice::check_solid_mesh(solid, "solid"), WithinRel(7.5, 1e-12));
   const slice::MeshInside inside(solid);
   CHECK(inside({0.6, 0.3, 2.3}));  // h(0.6, 0.3) = 2.2
   CHECK_FALSE(inside({0.6, 0.3, 2.1}));
+
+  // A U (3 x 3 unit squares but the top middle one) at z = 1: its border is not star-shaped
+  // about its centre, so the lid is the surface lifted; the solid up to z = 3 holds 8 x 2.
+  slice::TriangleMesh u;
+  for (int k = 0; k < 16; ++k) u.vertices.emplace_back(k % 4, k / 4, 1);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i)
+      if (!(i == 1 && j == 2)) {
+        const std::int64_t sw = 4 * j + i;
+        u.triangles.push_back({sw, sw + 1, sw + 5});
+        u.triangles.push_back({sw, sw + 5, sw + 4});
+      }
+  const std::vector<Vec2> u_plan = {{0, 0}, {3, 0}, {3, 2}, {0, 2}};  // the U's bottom part
+  const slice::TriangleMesh u_solid =
+      slice::solid_above(slice::check_height_field(u, u_plan, 1e-9, "u"), 3);
+  CHECK(u_solid.triangles.size() == 16 + 16 + 2 * 14);
+  CHECK_THAT(slice::check_solid_mesh(u_solid, "u"), WithinRel(16.0, 1e-12));
 
   // A second sheet over part of the square, not joined to it: z is not a function there.
   slice::TriangleMesh two = square();

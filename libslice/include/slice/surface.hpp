@@ -62,7 +62,8 @@ TriangleMesh check_height_field(const TriangleMesh& surface, std::span<const Vec
 
 /// The closed mesh (outward, as check_solid_mesh wants) of the rock above a checked surface
 /// (check_height_field) up to z = top, which must lie above it: the surface's triangles
-/// turned down, a vertical wall on each border edge and a lid, the surface's plan at z = top.
+/// turned down, a vertical wall on each border edge and a lid at z = top: a fan from the
+/// border's centre if the border is one loop star-shaped about it, else the surface's triangles.
 TriangleMesh solid_above(const TriangleMesh& up, double top);
 
 }  // namespace slice

@@ -482,23 +482,71 @@ TriangleMesh check_height_field(const TriangleMesh& surface, std::span<const Vec
   return s;
 }
 
+namespace {
+
+// The border of a surface as one loop a -> b -> ... (each border edge a -> b once), or empty
+// if it is not one simple loop (holes, several pieces, corners touched twice).
+std::vector<std::int64_t> border_loop(
+    const std::vector<std::pair<std::int64_t, std::int64_t>>& border) {
+  std::map<std::int64_t, std::int64_t> next;
+  for (const auto& [a, b] : border)
+    if (!next.emplace(a, b).second) return {};
+  std::vector<std::int64_t> loop;
+  if (border.empty()) return loop;
+  for (std::int64_t v = border.front().first; loop.size() <= border.size();) {
+    loop.push_back(v);
+    const auto it = next.find(v);
+    if (it == next.end()) return {};
+    v = it->second;
+    if (v == border.front().first) break;
+  }
+  return loop.size() == border.size() ? loop : std::vector<std::int64_t>{};
+}
+
+}  // namespace
+
 TriangleMesh solid_above(const TriangleMesh& up, double top) {
   TriangleMesh m;
-  const auto nv = std::int64_t(up.vertices.size());
   m.vertices = up.vertices;
-  for (const Vec3& x : up.vertices) m.vertices.emplace_back(x.x(), x.y(), top);
   std::set<std::pair<std::int64_t, std::int64_t>> directed;
   for (const auto& t : up.triangles) {
-    m.triangles.push_back({t[0], t[2], t[1]});                 // the surface, facing down
-    m.triangles.push_back({t[0] + nv, t[1] + nv, t[2] + nv});  // the lid, facing up
+    m.triangles.push_back({t[0], t[2], t[1]});  // the surface, facing down
     for (int e = 0; e < 3; ++e) directed.emplace(t[std::size_t(e)], t[std::size_t((e + 1) % 3)]);
   }
+  std::map<std::int64_t, std::int64_t> lifted;  // a vertex -> its copy at z = top
+  const auto lift = [&](std::int64_t v) {
+    const auto [it, fresh] = lifted.emplace(v, std::int64_t(m.vertices.size()));
+    if (fresh)
+      m.vertices.emplace_back(up.vertices[std::size_t(v)].x(), up.vertices[std::size_t(v)].y(),
+                              top);
+    return it->second;
+  };
   // A wall on each border edge a -> b (no triangle runs b -> a), facing out: right of a -> b.
+  std::vector<std::pair<std::int64_t, std::int64_t>> border;
   for (const auto& [a, b] : directed)
     if (!directed.count({b, a})) {
-      m.triangles.push_back({a, b, b + nv});
-      m.triangles.push_back({a, b + nv, a + nv});
+      border.emplace_back(a, b);
+      m.triangles.push_back({a, b, lift(b)});
+      m.triangles.push_back({a, lift(b), lift(a)});
     }
+  // The lid, facing up: a fan from the border's centre when the border is one loop that is
+  // star-shaped about it (a grid's rectangle, any convex border), so the lid has as many
+  // triangles as the border edges; else the surface's own triangles lifted.
+  const std::vector<std::int64_t> loop = border_loop(border);
+  Vec2 c = Vec2::Zero();
+  for (const std::int64_t v : loop) c += xy(up.vertices[std::size_t(v)]) / double(loop.size());
+  const bool star = !loop.empty() && std::all_of(border.begin(), border.end(), [&](const auto& e) {
+    const Vec2 a = xy(up.vertices[std::size_t(e.first)]) - c;
+    const Vec2 b = xy(up.vertices[std::size_t(e.second)]) - c;
+    return a.x() * b.y() - a.y() * b.x() > 1e-9 * a.norm() * b.norm();
+  });
+  if (star) {
+    const auto centre = std::int64_t(m.vertices.size());
+    m.vertices.emplace_back(c.x(), c.y(), top);
+    for (const auto& [a, b] : border) m.triangles.push_back({centre, lift(a), lift(b)});
+  } else {
+    for (const auto& t : up.triangles) m.triangles.push_back({lift(t[0]), lift(t[1]), lift(t[2])});
+  }
   return m;
 }
 
