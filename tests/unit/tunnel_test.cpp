@@ -245,7 +245,7 @@ TEST_CASE("bad scene: tunnel zones", "[unit][tunnel][bad-input]") {
       {"[[zones]]\n" + t + ", radius = 3 }\n\nstage = 2\n",
        {"bad.toml:6", "'stage'", "cut = true"}},
       {"[[zones]]\nbox = { min = [0, 0, 0], max = [1, 1, 1] }\ncut = true\n",
-       {"bad.toml:5", "'cut'", "tunnel and mesh zones only"}},
+       {"bad.toml:5", "'cut'", "tunnel, mesh and surface zones only"}},
       {"[[zones]]\nbox = { min = [0, 0, 0], max = [1, 1, 1] }\n" + t + ", radius = 3 }\n",
        {"bad.toml:4", "both 'tunnel' and 'box'"}},
       {"[[zones]]\n" + t + " }\n", {"bad.toml:4", "missing key 'radius'", "outline"}},

@@ -579,7 +579,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
 
 std::vector<std::pair<std::string, std::filesystem::path>> scene_files(const Scene& scene) {
   std::vector<std::pair<std::string, std::filesystem::path>> files;
-  for (const auto& f : scene.mesh_files) files.emplace_back("the [[zones]] mesh", f);
+  for (const auto& f : scene.mesh_files) files.emplace_back("the [[zones]] mesh or surface", f);
   for (const auto& f : scene.dfn_files) files.emplace_back("the [[dfn]] file", f);
   return files;
 }

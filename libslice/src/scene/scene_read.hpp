@@ -30,9 +30,9 @@ inline constexpr std::array<std::string_view, 9> kTopTables = {
 inline constexpr std::array<std::string_view, 5> kSceneKeys = {"name", "seed", "tolerance",
                                                                "max_joints", "dimension"};
 inline constexpr std::array<std::string_view, 2> kRegionKeys = {"box", "planes"};
-// A zone is a region, a tunnel or a mesh; `cut` and `stage` apply to tunnels and meshes.
-inline constexpr std::array<std::string_view, 6> kZoneKeys = {"box",  "planes", "tunnel",
-                                                              "mesh", "cut",    "stage"};
+// A zone is a region, a tunnel, a mesh or a surface; `cut` and `stage` apply to all but regions.
+inline constexpr std::array<std::string_view, 7> kZoneKeys = {"box", "planes", "tunnel", "mesh",
+                                                              "cut", "stage",  "surface"};
 inline constexpr std::array<std::string_view, 6> kTunnelKeys = {"point",  "direction", "length",
                                                                 "radius", "sides",     "outline"};
 // A tunnel's default number of sides: the 16-gon's area is 1.3 % above its inscribed circle's.
@@ -153,8 +153,21 @@ DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, s
 void assign_joint_sets(const Context& cx, const std::vector<const toml::table*>& tables,
                        Scene& scene);
 
-// A [[zones]] entry: box, planes, tunnel or mesh (zones.cpp).
+// A [[zones]] entry: box, planes, tunnel, mesh or surface (zones.cpp).
 ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
                     std::int64_t default_stage, std::int64_t entry);
+// True if one of the regions has volume inside the domain (zones.cpp).
+bool meets_domain(const Context& cx, std::span<const Region> regions);
+// The file a zone's `key` names (relative paths from the scene's directory), which must exist;
+// `kinds` names what it should be ("an OBJ or STL") (zones.cpp).
+std::filesystem::path zone_file(const Context& cx, const Tbl& t, const toml::node& node,
+                                std::string_view key, const std::string& kinds);
+// One construction joint per triangle of `mesh` that reaches into the domain (cut = true of
+// mesh and surface zones; zones.cpp).
+void add_face_joints(const Context& cx, const TriangleMesh& mesh, std::vector<Joint>& joints);
+// A [[zones]] surface, the rock above a height field: its closed solid in z.mesh
+// (surface_zone.cpp).
+void read_surface_zone(const Context& cx, const Tbl& t, const toml::node& node, bool cut,
+                       ZoneEntry& z);
 
 }  // namespace slice::scene_read

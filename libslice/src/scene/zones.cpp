@@ -160,7 +160,8 @@ void check_tunnel_precision(const Context& cx, const Tbl& zone, const toml::node
                 "length), or raise [scene] tolerance");
 }
 
-// True if one of the regions has volume inside the domain.
+}  // namespace
+
 bool meets_domain(const Context& cx, std::span<const Region> regions) {
   return std::any_of(regions.begin(), regions.end(), [&](const Region& z) {
     std::vector<Plane> both = solid_region(z, cx.dimension);
@@ -169,17 +170,35 @@ bool meets_domain(const Context& cx, std::span<const Region> regions) {
   });
 }
 
+std::filesystem::path zone_file(const Context& cx, const Tbl& t, const toml::node& node,
+                                std::string_view key, const std::string& kinds) {
+  const std::filesystem::path given = to_text(cx.r, node, t.label(key));
+  const std::filesystem::path file = given.is_absolute() ? given : cx.dir / given;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec))
+    cx.r.fail(node, t.label(key) + " names " + file.string() + ", which is not a file",
+              "give the path of " + kinds + " file, relative to the scene file's directory");
+  return file;
+}
+
+void add_face_joints(const Context& cx, const TriangleMesh& mesh, std::vector<Joint>& joints) {
+  for (const auto& tri : mesh.triangles) {
+    const std::vector<Vec3> corners{mesh.vertices[std::size_t(tri[0])],
+                                    mesh.vertices[std::size_t(tri[1])],
+                                    mesh.vertices[std::size_t(tri[2])]};
+    if (!face_misses_domain(corners, cx.box.planes, cx.tol()))
+      joints.push_back(construction_face_joint(corners));
+  }
+}
+
+namespace {
+
 // A [[zones]] mesh: a closed triangle mesh from an OBJ or STL file (relative paths from the
 // scene's directory), checked; with `cut`, one construction joint per triangle in the domain.
 void read_mesh_zone(const Context& cx, const Tbl& t, const toml::node& node, bool cut,
                     ZoneEntry& z) {
   const Reader& r = cx.r;
-  const std::filesystem::path given = to_text(r, node, t.label("mesh"));
-  const std::filesystem::path file = given.is_absolute() ? given : cx.dir / given;
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec))
-    r.fail(node, t.label("mesh") + " names " + file.string() + ", which is not a file",
-           "give the path of an OBJ or STL file, relative to the scene file's directory");
+  const std::filesystem::path file = zone_file(cx, t, node, "mesh", "an OBJ or STL");
   TriangleMesh mesh;
   try {
     mesh = read_mesh(file);
@@ -198,14 +217,7 @@ void read_mesh_zone(const Context& cx, const Tbl& t, const toml::node& node, boo
   if (!meets_domain(cx, std::span<const Region>(&box, 1)))
     r.fail(node, t.ctx + "'s mesh has no volume inside the domain, so it would remove nothing",
            "check the mesh's coordinates against the domain (same frame and unit)");
-  if (cut)
-    for (const auto& tri : mesh.triangles) {
-      const std::vector<Vec3> corners{mesh.vertices[std::size_t(tri[0])],
-                                      mesh.vertices[std::size_t(tri[1])],
-                                      mesh.vertices[std::size_t(tri[2])]};
-      if (!face_misses_domain(corners, cx.box.planes, cx.tol()))
-        z.joints.push_back(construction_face_joint(corners));
-    }
+  if (cut) add_face_joints(cx, mesh, z.joints);
   z.mesh = std::move(mesh);
   z.mesh_file = file;
 }
@@ -222,25 +234,27 @@ ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
   ZoneEntry z;
   const toml::node* tunnel = t.find("tunnel");
   const toml::node* mesh = t.find("mesh");
+  const toml::node* surface = t.find("surface");
   const toml::node* stage = t.find("stage");
   std::string_view which;
   bool in_domain = false;
-  if (!tunnel && !mesh) {
+  if (!tunnel && !mesh && !surface) {
     if (const toml::node* n =
             first_present(t, std::array<std::string_view, 2>{"cut", "stage"}, &which))
-      r.fail(*n, t.label(which) + " applies to tunnel and mesh zones only",
-             "remove " + quote_key(which) + ", or give the zone as tunnel = { ... } or mesh");
+      r.fail(
+          *n, t.label(which) + " applies to tunnel, mesh and surface zones only",
+          "remove " + quote_key(which) + ", or give the zone as tunnel = { ... }, mesh or surface");
     if (!t.find("box") && !t.find("planes"))
-      r.fail(tt, t.ctx + " has none of 'box', 'planes', 'tunnel' and 'mesh'",
+      r.fail(tt, t.ctx + " has none of 'box', 'planes', 'tunnel', 'mesh' and 'surface'",
              "add box = { min = [x, y, z], max = [x, y, z] }, planes = [ { normal = [nx, ny, "
              "nz], d = d }, ... ], tunnel = { point = [x, y, z], direction = [dx, dy, dz], "
-             "length = L, radius = R } or mesh = \"cavern.obj\"");
+             "length = L, radius = R }, mesh = \"cavern.obj\" or surface = \"topo.asc\"");
     z.regions.push_back(region_of(t, cx.dimension));
     in_domain = meets_domain(cx, z.regions);
   } else {
-    const std::string_view kind = tunnel ? "tunnel" : "mesh";
-    if (cx.dimension == 2 && mesh)
-      r.fail(*mesh, t.ctx + ": a mesh zone is 3-D",
+    const std::string_view kind = tunnel ? "tunnel" : mesh ? "mesh" : "surface";
+    if (cx.dimension == 2 && !tunnel)
+      r.fail(mesh ? *mesh : *surface, t.ctx + ": a " + std::string(kind) + " zone is 3-D",
              "in a 2-D scene give the zone as box = { min = [x, z], max = [x, z] }, planes or "
              "tunnel = { point = [x, z], radius = R }");
     if (const toml::node* n = first_present(t, kRegionKeys, &which))
@@ -248,6 +262,10 @@ ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
              "keep one of them");
     if (tunnel && mesh)
       r.fail(*mesh, t.ctx + " gives both 'tunnel' and 'mesh'", "keep one of them");
+    if (surface && (tunnel || mesh))
+      r.fail(*surface,
+             t.ctx + " gives both " + quote_key(tunnel ? "tunnel" : "mesh") + " and 'surface'",
+             "keep one of them");
     bool cut = false;
     if (const toml::node* n = t.find("cut")) {
       const auto* b = n->as_boolean();
@@ -260,8 +278,11 @@ ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
       r.fail(*stage,
              t.label("stage") + " applies with cut = true: without it the zone adds no joints",
              "add cut = true, or remove 'stage'");
-    if (mesh) {
-      read_mesh_zone(cx, t, *mesh, cut, z);
+    if (mesh || surface) {
+      if (mesh)
+        read_mesh_zone(cx, t, *mesh, cut, z);
+      else
+        read_surface_zone(cx, t, *surface, cut, z);
       z.place = read_place(r, tt, t.ctx, entry);
       if (!stage) z.place.stage = default_stage;
       return z;
