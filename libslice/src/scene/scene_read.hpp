@@ -44,11 +44,15 @@ inline constexpr std::array<std::string_view, 6> kOptionKeys = {
 inline constexpr std::array<std::string_view, 13> kJointKeys = {
     "dip",      "dip_direction", "point", "polygon", "polygon_uv", "kind",   "friction_angle",
     "cohesion", "keep",          "stage", "limits",  "segment",    "tension"};
-inline constexpr std::array<std::string_view, 24> kSetKeys = {
-    "name",           "dip",      "dip_direction", "spacing", "offset", "kind", "keep",
-    "friction_angle", "cohesion", "fisher_kappa",  "density", "count",  "p32",  "p10",
-    "scanline",       "size",     "shape",         "aspect",  "sides",  "fit",  "rotation",
-    "stage",          "limits",   "tension"};
+inline constexpr std::array<std::string_view, 26> kSetKeys = {
+    "name",           "dip",      "dip_direction", "spacing", "offset",      "kind", "keep",
+    "friction_angle", "cohesion", "fisher_kappa",  "density", "count",       "p32",  "p10",
+    "scanline",       "size",     "shape",         "aspect",  "sides",       "fit",  "rotation",
+    "stage",          "limits",   "tension",       "mapping", "trace_length"};
+// A set's mapping window (TraceMapping) and the trace lengths mapped in it.
+inline constexpr std::array<std::string_view, 5> kMappingKeys = {"point", "dip", "dip_direction",
+                                                                 "width", "height"};
+inline constexpr std::array<std::string_view, 2> kTraceLengthKeys = {"mean", "sd"};
 // [rock]: intact rock, for the contacts DEM exports put through rock bridges (RockSpec).
 inline constexpr std::array<std::string_view, 3> kRockKeys = {"friction_angle", "cohesion",
                                                               "tension"};
