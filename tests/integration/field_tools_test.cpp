@@ -49,7 +49,7 @@ trace_length = { mean = 4.2, sd = 1.9 }
 
 }  // namespace
 
-TEST_CASE("a regular set with Fisher scatter is cut into valid blocks; traces are reported",
+TEST_CASE("a regular set with Fisher scatter is cut into valid blocks and its traces reported",
           "[tools][field]") {
   test::TempDir tmp;
   test::write_text(tmp / "s.toml", kScene);
