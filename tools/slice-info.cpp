@@ -51,13 +51,33 @@ ordered_json describe_joints(const slice::JointSystem& js) {
       ++per_set[std::size_t(jt.set)];
   }
   ordered_json sets = ordered_json::array();
-  for (std::size_t s = 0; s < js.sets.size(); ++s)
+  for (std::size_t s = 0; s < js.sets.size(); ++s) {
     sets.push_back({{"name", js.sets[s].name},
                     {"joints", per_set[s]},
                     {"intensity", slice::to_string(js.sets[s].intensity)},
                     {"size", slice::to_string(js.sets[s].size.distribution)},
                     {"p32", js.sets[s].achieved_p32},
                     {"p10", js.sets[s].achieved_p10}});
+    const slice::TraceMapping& m = js.sets[s].mapping;
+    if (!m.given) continue;
+    // The traces on the set's mapping window, beside the trace lengths mapped there.
+    const slice::TraceStats& t = js.sets[s].traces;
+    const auto or_null = [](double v) { return v > 0 ? ordered_json(v) : ordered_json(nullptr); };
+    sets.back()["traces"] = {{"count", t.count},
+                             {"censored", {t.censored[0], t.censored[1], t.censored[2]}},
+                             {"mean", t.mean},
+                             {"sd", t.sd},
+                             {"complete_mean", t.complete_mean},
+                             {"p21", t.p21},
+                             {"mapped_mean", or_null(m.field_mean)},
+                             {"mapped_sd", or_null(m.field_sd)},
+                             {"window",
+                              {{"point", xyz(m.centre)},
+                               {"dip", m.dip_deg},
+                               {"dip_direction", m.dip_direction_deg},
+                               {"width", m.width},
+                               {"height", m.height}}}};
+  }
   j["joints"] = {{"total", js.joints.size()},
                  {"persistent", persistent},
                  {"polygons", js.joints.size() - persistent},

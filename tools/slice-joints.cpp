@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <optional>
@@ -33,6 +34,27 @@ std::uint64_t parse_seed(const std::string& given) {
                                       : " is not an integer";
   throw slice::Error("--seed", given + why,
                      "give an integer from 0 to 9223372036854775807 (2^63 - 1), as [scene] seed");
+}
+
+std::string num(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", x);
+  return buf;
+}
+
+// A set's traces on its mapping window, beside the trace lengths mapped there (to calibrate the
+// set's size).
+std::string trace_line(const slice::JointSetSpec& s) {
+  const slice::TraceStats& t = s.traces;
+  std::string line = "set \"" + s.name + "\": " + std::to_string(t.count) +
+                     " traces on its mapping window, length mean " + num(t.mean) + ", sd " +
+                     num(t.sd);
+  if (s.mapping.field_mean > 0)
+    line += " (mapped: mean " + num(s.mapping.field_mean) +
+            (s.mapping.field_sd > 0 ? ", sd " + num(s.mapping.field_sd) : std::string()) + ")";
+  return line + "; 0/1/2 ends censored: " + std::to_string(t.censored[0]) + "/" +
+         std::to_string(t.censored[1]) + "/" + std::to_string(t.censored[2]) + ", P21 " +
+         num(t.p21);
 }
 
 }  // namespace
@@ -84,5 +106,7 @@ int main(int argc, char** argv) {
             tool::sig(tr.apparent_dip_direction_deg, 3) + ", spacing " + tool::sig(s.spacing, 6) +
             ", " + std::to_string(s.candidates) + " lines");
     }
+    for (const auto& s : js.sets)
+      if (s.mapping.given) t.say(trace_line(s));
   });
 }

@@ -155,9 +155,10 @@ TEST_CASE("bad input: exit 1, one line naming file, line and key, nothing writte
       {"no intensity",
        box + "[[sets]]\ndip = 5\ndip_direction = 0\nfisher_kappa = 20\n",
        {":3", "missing key 'spacing'", "density"}},
-      {"fisher_kappa on a regular set",
-       box + "[[sets]]\ndip = 5\ndip_direction = 0\nspacing = 1.0\nfisher_kappa = 20\n",
-       {":7", "fisher_kappa", "regular set"}},
+      // A regular set takes Fisher scatter (issue 26), but not a negative concentration.
+      {"a negative fisher_kappa on a regular set",
+       box + "[[sets]]\ndip = 5\ndip_direction = 0\nspacing = 1.0\nfisher_kappa = -20\n",
+       {":7", "fisher_kappa", "below 0"}},
       {"TOML syntax", box + "[[sets]\n", {":3"}},
   };
   test::check_bad_scenes(cases);

@@ -628,7 +628,6 @@ TEST_CASE("bad scene: stochastic keys in a regular set (spacing)", "[unit][scene
     std::vector<std::string> words;
   };
   const std::vector<Case> cases = {
-      {"fisher_kappa = 20", {"'fisher_kappa'", "regular set", "share one orientation"}},
       {"density = 1e-3", {"gives both 'spacing' and 'density'", "keep one intensity"}},
       {"p32 = 0.5", {"gives both 'spacing' and 'p32'"}},
       {"p10 = 1.5", {"gives both 'spacing' and 'p10'"}},
@@ -649,6 +648,12 @@ TEST_CASE("bad scene: stochastic keys in a regular set (spacing)", "[unit][scene
     INFO("message: " << msg);
     for (const auto& w : words) CHECK_THAT(msg, Contains(w));
   }
+  // Fisher scatter (issue 26): a regular set's planes may each have their own pole.
+  CHECK(slice::parse_scene(kHead + "[[sets]]\ndip = 5\ndip_direction = 9\nspacing = 2\n"
+                                   "fisher_kappa = 20\n",
+                           "f.toml")
+            .sets.at(0)
+            .fisher_kappa == 20);
   // A scanline only says where P10 is measured: a regular set may have one.
   const auto s = slice::parse_scene(kHead +
                                         "[[sets]]\ndip = 5\ndip_direction = 9\nspacing = 2\n"

@@ -133,6 +133,29 @@ struct SizeSpec {
   double max = 0;
 };
 
+/// [[sets]] `mapping` and `trace_length` (docs/scenes.md): a rectangular window on a plane where
+/// the set's traces are sampled as a field mapper sees them (slice/traces.hpp), and the trace
+/// lengths mapped in the field, to compare them with.
+struct TraceMapping {
+  bool given = false;
+  Vec3 centre = Vec3::Zero();  // the window's centre
+  double dip_deg = 90;         // the mapping plane
+  double dip_direction_deg = 0;
+  double width = 0;       // along the plane's strike (u)
+  double height = 0;      // along its dip line (v)
+  double field_mean = 0;  // trace_length mean; 0: not given
+  double field_sd = 0;    // trace_length sd; 0: not given
+};
+/// The traces of a set's joints on its mapping window: each joint's intersection with the
+/// mapping plane, clipped to the window, as long as it is inside.
+struct TraceStats {
+  std::int64_t count = 0;                  // traces in the window
+  std::array<std::int64_t, 3> censored{};  // of them, with 0, 1, 2 ends on the window's border
+  double mean = 0, sd = 0;                 // of their lengths inside the window (sd: n - 1)
+  double complete_mean = 0;                // mean length of those with no end censored
+  double p21 = 0;                          // their total length / the window's area
+};
+
 /// A [[sets]] entry as the scene gave it, plus what was generated from it. Angles in degrees.
 struct JointSetSpec {
   std::string name;
@@ -168,7 +191,8 @@ struct JointSetSpec {
   bool rotation_fixed = false;  // false: each joint turned by a uniform random angle in-plane
   double rotation_deg = 0;      // fixed rotation, counter-clockwise from strike in (u, v)
 
-  bool limits = true;  // false: the set's cuts are exempt from the size and shape limits
+  bool limits = true;      // false: the set's cuts are exempt from the size and shape limits
+  TraceMapping mapping{};  // [[sets]] mapping, trace_length
 
   // What generation did (stochastic and regular sets alike).
   std::uint64_t stream_seed = 0;  // seed of the set's gsl_rng_mt19937 stream
@@ -176,6 +200,7 @@ struct JointSetSpec {
   std::int64_t candidates = 0;    // joints drawn, including those that missed the domain
   double achieved_p32 = 0;        // joint area inside the domain / domain volume
   double achieved_p10 = 0;        // joints crossing the scanline / its length
+  TraceStats traces{};            // on `mapping`, if given
 };
 
 /// Intact rock, the scene's [rock] table: the strength a DEM export gives a contact through

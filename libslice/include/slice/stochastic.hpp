@@ -99,6 +99,13 @@ std::vector<Joint> generate_stochastic_set(JointSetSpec& spec, std::size_t index
                                            std::uint64_t scene_seed, const DomainBox& domain,
                                            std::int64_t max_joints, const std::string& where);
 
+/// The upward unit normals of `count` planes drawn from the Fisher distribution about the mean
+/// pole of set `spec` (its dip, dip direction and fisher_kappa > 0), as a stochastic set draws
+/// them (two uniforms per plane), from the stream gsl_rng_mt19937 seeded by `stream_seed`. For
+/// the planes of a regular set with scatter (spacing and fisher_kappa), in increasing offset.
+std::vector<Vec3> fisher_normals(const JointSetSpec& spec, std::uint64_t stream_seed,
+                                 std::size_t count);
+
 /// Sets spec's joint_count, achieved_p32 and achieved_p10 (along its scanline) from the joints
 /// of the set.
 void measure_set(JointSetSpec& spec, const std::vector<const Joint*>& joints,

@@ -110,6 +110,13 @@ void check_joints(const Checker& c, const JointSystem& js) {
       c.fail(g + "candidates is " + str(s.candidates) + "; it cannot be negative");
     c.non_negative(s.achieved_p32, g + "achieved_p32");
     c.non_negative(s.achieved_p10, g + "achieved_p10");
+    if (s.mapping.given) {
+      c.finite(s.mapping.centre, g + "mapping_point");
+      for (const double v :
+           {s.mapping.width, s.mapping.height, s.mapping.field_mean, s.mapping.field_sd,
+            s.traces.mean, s.traces.sd, s.traces.complete_mean, s.traces.p21})
+        c.non_negative(v, g + "mapping and trace attributes");
+    }
   }
   for (const double v : {js.rock.cohesion, js.rock.tension}) c.non_negative(v, "/rock attributes");
   c.finite(js.rock.friction_angle_deg, "/rock attribute friction_angle");
@@ -199,6 +206,25 @@ void write_set_generation(const Group& sg, const JointSetSpec& s) {
   sg.write_attribute("candidates", s.candidates);
   sg.write_attribute("achieved_p32", s.achieved_p32);
   sg.write_attribute("achieved_p10", s.achieved_p10);
+  if (!s.mapping.given) return;  // files of sets without a mapping window stay as they were
+  // [[sets]] mapping and trace_length, then the traces found in the window (TraceStats).
+  const TraceMapping& m = s.mapping;
+  for (int k = 0; k < 3; ++k)
+    sg.write_attribute("mapping_point_" + std::string(1, "xyz"[k]), m.centre(k));
+  sg.write_attribute("mapping_dip", m.dip_deg);
+  sg.write_attribute("mapping_dip_direction", m.dip_direction_deg);
+  sg.write_attribute("mapping_width", m.width);
+  sg.write_attribute("mapping_height", m.height);
+  sg.write_attribute("trace_length_mean", m.field_mean);
+  sg.write_attribute("trace_length_sd", m.field_sd);
+  const TraceStats& t = s.traces;
+  sg.write_attribute("trace_count", t.count);
+  for (std::size_t k = 0; k < 3; ++k)
+    sg.write_attribute("trace_censored_" + std::to_string(k), t.censored[k]);
+  sg.write_attribute("trace_mean", t.mean);
+  sg.write_attribute("trace_sd", t.sd);
+  sg.write_attribute("trace_complete_mean", t.complete_mean);
+  sg.write_attribute("trace_p21", t.p21);
 }
 
 }  // namespace
@@ -374,6 +400,25 @@ void read_set_generation(const Group& sg, JointSetSpec& s) {
   s.candidates = sg.read_attribute<std::int64_t>("candidates");
   s.achieved_p32 = sg.read_attribute<double>("achieved_p32");
   s.achieved_p10 = sg.read_attribute<double>("achieved_p10");
+  if (!sg.has_attribute("mapping_dip")) return;
+  TraceMapping& m = s.mapping;
+  m.given = true;
+  for (int k = 0; k < 3; ++k)
+    m.centre(k) = sg.read_attribute<double>("mapping_point_" + std::string(1, "xyz"[k]));
+  m.dip_deg = sg.read_attribute<double>("mapping_dip");
+  m.dip_direction_deg = sg.read_attribute<double>("mapping_dip_direction");
+  m.width = sg.read_attribute<double>("mapping_width");
+  m.height = sg.read_attribute<double>("mapping_height");
+  m.field_mean = sg.read_attribute<double>("trace_length_mean");
+  m.field_sd = sg.read_attribute<double>("trace_length_sd");
+  TraceStats& t = s.traces;
+  t.count = sg.read_attribute<std::int64_t>("trace_count");
+  for (std::size_t k = 0; k < 3; ++k)
+    t.censored[k] = sg.read_attribute<std::int64_t>("trace_censored_" + std::to_string(k));
+  t.mean = sg.read_attribute<double>("trace_mean");
+  t.sd = sg.read_attribute<double>("trace_sd");
+  t.complete_mean = sg.read_attribute<double>("trace_complete_mean");
+  t.p21 = sg.read_attribute<double>("trace_p21");
 }
 
 // /zones/mesh_*: closed meshes, each with its own vertices (checked by check_joints).

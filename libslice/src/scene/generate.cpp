@@ -17,6 +17,7 @@
 #include "slice/polytope.hpp"
 #include "slice/scene.hpp"
 #include "slice/stochastic.hpp"
+#include "slice/traces.hpp"
 
 // The joints of a scene (generate_joints) and their order (order_joints).
 namespace slice {
@@ -132,12 +133,27 @@ JointSystem generate_joints(const Scene& scene) {
             "set \"" + spec.name + "\" would have more than " + fmt(kMaxPlanesPerSet) + " planes",
             "check the units of spacing and of the domain");
       const std::vector<double> planes = set_planes(spec, n, dom.info.vertices, tol);
-      for (const double c : planes) {
+      spec.stream_seed = set_stream_seed(scene.seed, s);  // drawn from only with scatter
+      // With fisher_kappa, each plane has its own pole, drawn in increasing offset; without,
+      // nothing is drawn and every plane has the mean orientation.
+      const std::vector<Vec3> poles = spec.fisher_kappa > 0
+                                          ? fisher_normals(spec, spec.stream_seed, planes.size())
+                                          : std::vector<Vec3>{};
+      for (std::size_t k = 0; k < planes.size(); ++k) {
+        const double c = planes[k];
         Joint j;
         j.plane = {n, c};
         j.centre = mean - (n.dot(mean) - c) * n;  // the vertex mean projected on the plane
         j.dip_deg = spec.dip_deg;
         j.dip_direction_deg = spec.dip_direction_deg;
+        if (!poles.empty()) {  // turned about its centre, which stays on the mean normal's line
+          const DipAndDirection dd = dip_from_normal(poles[k]);
+          j.dip_deg = dd.dip_deg;
+          j.dip_direction_deg = dd.dip_direction_deg;
+          // The normal from the stored angles, as readers of joints.h5 rebuild it.
+          const Vec3 nk = normal_from_dip(j.dip_deg, j.dip_direction_deg);
+          j.plane = {nk, nk.dot(j.centre)};
+        }
         j.kind = spec.kind;
         j.set = static_cast<std::int32_t>(s);
         j.friction_angle_deg = spec.friction_angle_deg;
@@ -147,11 +163,11 @@ JointSystem generate_joints(const Scene& scene) {
         j.boundary_side = spec.boundary_side;
         js.joints.push_back(std::move(j));
       }
-      spec.stream_seed = set_stream_seed(scene.seed, s);  // recorded, though unused
       spec.candidates = static_cast<std::int64_t>(planes.size());
     }
     for (std::size_t i = first; i < js.joints.size(); ++i) mine.push_back(&js.joints[i]);
     measure_set(spec, mine, box);
+    if (spec.mapping.given) spec.traces = trace_stats(mine, spec.mapping, tol);
     place.resize(js.joints.size(), place_of(scene.set_places, s, 1));
   }
   order_joints(js.joints, scene.options.order, place);

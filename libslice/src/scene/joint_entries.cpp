@@ -375,6 +375,66 @@ void read_scanline(const Context& cx, const Tbl& set, const toml::node& node, Jo
   }
 }
 
+// The set's mapping window, { point, dip, dip_direction, width, height }, inside the domain, and
+// the trace lengths mapped in it, trace_length = { mean, sd }.
+void read_mapping(const Context& cx, const Tbl& set, JointSetSpec& s) {
+  const Reader& r = set.r;
+  const toml::node* node = set.find("mapping");
+  const toml::node* traces = set.find("trace_length");
+  if (!node) {
+    if (traces)
+      r.fail(*traces, set.label("trace_length") + " needs the window it was mapped in",
+             "add mapping = { point = [x, y, z], dip = ..., dip_direction = ..., width = ..., "
+             "height = ... }");
+    return;
+  }
+  const std::string form =
+      "mapping = { point = [x, y, z], dip = 90, dip_direction = 0, width = 20, height = 5 }";
+  if (cx.dimension == 2)
+    r.fail(*node, set.label("mapping") + " is not available in a 2-D scene",
+           "remove it: a section is itself a mapping plane");
+  const Tbl t{r, as_table(r, *node, set.label("mapping"), "write " + form),
+              "'mapping' of " + set.ctx};
+  t.check_keys(kMappingKeys);
+  TraceMapping& m = s.mapping;
+  m.given = true;
+  m.centre = to_vector<3>(r, t.require("point", "add point = [x, y, z], the window's centre"),
+                          t.label("point"));
+  m.dip_deg = required_number(t, "dip", "add dip = <degrees>, the mapping plane's dip");
+  check_range(t, "dip", m.dip_deg, 0, 90, false, kDipFix);
+  m.dip_direction_deg = required_number(t, "dip_direction",
+                                        "add dip_direction = <degrees>, the plane's dip direction");
+  check_range(t, "dip_direction", m.dip_direction_deg, 0, 360, true, kDipDirectionFix);
+  t.require("width", "add width = <the window's length along the plane's strike>");
+  t.require("height", "add height = <the window's length along the plane's dip line>");
+  m.width = positive(t, "width", "give the window's length along strike, > 0");
+  m.height = positive(t, "height", "give the window's length along the dip line, > 0");
+  const JointFrame f = plane_frame(m.dip_deg, m.dip_direction_deg);
+  const double tol = cx.tol();
+  for (const double su : {-0.5, 0.5})
+    for (const double sv : {-0.5, 0.5}) {
+      const Vec3 x = f.to_global(m.centre, Vec2(su * m.width, sv * m.height));
+      for (const Plane& p : cx.box.planes)
+        if (p.distance(x) > tol)
+          r.fail(*node,
+                 "the mapping window of " + set.ctx + " leaves the domain: its corner " + fmt(x) +
+                     " is " + fmt(p.distance(x), 6) + " outside the domain face with outward " +
+                     "normal " + fmt(p.normal),
+                 "move the window's point or shrink its width or height so that it lies inside "
+                 "the domain");
+    }
+  if (!traces) return;
+  const Tbl tl{r,
+               as_table(r, *traces, set.label("trace_length"),
+                        "write trace_length = { mean = 2.5, sd = 1.2 }"),
+               "'trace_length' of " + set.ctx};
+  tl.check_keys(kTraceLengthKeys);
+  tl.require("mean", "add mean = <the mean trace length mapped in the window>");
+  m.field_mean = positive(tl, "mean", "give the mean mapped trace length, > 0");
+  if (tl.find("sd"))
+    m.field_sd = positive(tl, "sd", "give the standard deviation of the mapped trace lengths, > 0");
+}
+
 // The index in kIntensityKeys of the set's one intensity key (exactly one is given).
 std::size_t read_intensity(const Tbl& t) {
   const Reader& r = t.r;
@@ -407,8 +467,9 @@ std::size_t read_intensity(const Tbl& t) {
   return given.front();
 }
 
-// A regular set (spacing): persistent planes of one orientation, no size. In a section, `trace`
-// carries the 3-D set's spacing and offset over to its lines.
+// A regular set (spacing): persistent planes at the mean orientation, or each scattered about
+// it (fisher_kappa); no size. In a section, `trace` carries the 3-D set's spacing and offset over
+// to its lines.
 void read_regular(const Context& cx, const Tbl& t, JointSetSpec& s, const SectionTrace* trace) {
   const Reader& r = t.r;
   std::string_view bad;
@@ -421,11 +482,6 @@ void read_regular(const Context& cx, const Tbl& t, JointSetSpec& s, const Sectio
                "persistent planes",
            "remove " + quote_key(bad) +
                ", or replace 'spacing' by density, count, p32 or p10 for a stochastic set");
-  if (s.fisher_kappa > 0)
-    r.fail(*t.find("fisher_kappa"),
-           t.label("fisher_kappa") + " does not apply to a regular set (spacing): its planes " +
-               "share one orientation",
-           "remove 'fisher_kappa', or replace 'spacing' by density, count, p32 or p10");
   s.spacing =
       positive(t, "spacing", "give the distance between the set's planes, a positive length");
   s.offset = number(t, "offset", 0);
@@ -615,6 +671,7 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
              "larger, the tighter the poles)");
   }
   if (const toml::node* n = t.find("scanline")) read_scanline(cx, t, *n, s);
+  read_mapping(cx, t, s);
   const toml::node* size_node = t.find("size");
   if (size_node) s.size = read_size(t, *size_node);
   const bool finite = s.size.distribution != SizeDistribution::persistent;

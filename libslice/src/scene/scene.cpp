@@ -362,6 +362,8 @@ std::vector<SceneKeys> scene_keys() {
           {"sets", "", list(kSetKeys)},
           {"sets", "size", std::move(size)},
           {"sets", "scanline", list(kScanlineKeys)},
+          {"sets", "mapping", list(kMappingKeys)},
+          {"sets", "trace_length", list(kTraceLengthKeys)},
           {"zones", "", list(kZoneKeys)},
           {"zones", "box", list(kBoxKeys)},
           {"zones", "planes", list(kPlaneKeys)},

@@ -44,11 +44,15 @@ inline constexpr std::array<std::string_view, 6> kOptionKeys = {
 inline constexpr std::array<std::string_view, 14> kJointKeys = {
     "dip",      "dip_direction", "point", "polygon", "polygon_uv", "kind",    "friction_angle",
     "cohesion", "keep",          "stage", "limits",  "segment",    "tension", "set"};
-inline constexpr std::array<std::string_view, 24> kSetKeys = {
-    "name",           "dip",      "dip_direction", "spacing", "offset", "kind", "keep",
-    "friction_angle", "cohesion", "fisher_kappa",  "density", "count",  "p32",  "p10",
-    "scanline",       "size",     "shape",         "aspect",  "sides",  "fit",  "rotation",
-    "stage",          "limits",   "tension"};
+inline constexpr std::array<std::string_view, 26> kSetKeys = {
+    "name",           "dip",      "dip_direction", "spacing", "offset",      "kind", "keep",
+    "friction_angle", "cohesion", "fisher_kappa",  "density", "count",       "p32",  "p10",
+    "scanline",       "size",     "shape",         "aspect",  "sides",       "fit",  "rotation",
+    "stage",          "limits",   "tension",       "mapping", "trace_length"};
+// A set's mapping window (TraceMapping) and the trace lengths mapped in it.
+inline constexpr std::array<std::string_view, 5> kMappingKeys = {"point", "dip", "dip_direction",
+                                                                 "width", "height"};
+inline constexpr std::array<std::string_view, 2> kTraceLengthKeys = {"mean", "sd"};
 // [section]: the vertical plane a 2-D scene cuts 3-D joint sets in (section.cpp).
 inline constexpr std::array<std::string_view, 3> kSectionKeys = {"point", "strike", "normal"};
 // [rock]: intact rock, for the contacts DEM exports put through rock bridges (RockSpec).

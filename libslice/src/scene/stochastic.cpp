@@ -98,6 +98,14 @@ struct RngDeleter {
 };
 using Rng = std::unique_ptr<gsl_rng, RngDeleter>;
 
+// A gsl_rng_mt19937 stream seeded by `seed` (32 bits: set_stream_seed).
+Rng make_rng(std::uint64_t seed) {
+  Rng rng(gsl_rng_alloc(gsl_rng_mt19937));
+  if (!rng) throw std::bad_alloc();
+  gsl_rng_set(rng.get(), static_cast<unsigned long>(seed));
+  return rng;
+}
+
 // Lognormal parameters of the log from the mean m and standard deviation s of the size itself:
 // sigma^2 = ln(1 + s^2/m^2), zeta = ln m - sigma^2 / 2.
 std::pair<double, double> lognormal_params(const SizeSpec& s) {
@@ -355,9 +363,7 @@ std::vector<Joint> generate_stochastic_set(JointSetSpec& spec, std::size_t index
   spec.stream_seed = set_stream_seed(scene_seed, index);
   spec.enlargement = set_enlargement(spec);
   spec.candidates = 0;
-  Rng rng(gsl_rng_alloc(gsl_rng_mt19937));
-  if (!rng) throw std::bad_alloc();
-  gsl_rng_set(rng.get(), static_cast<unsigned long>(spec.stream_seed));
+  const Rng rng = make_rng(spec.stream_seed);
   gsl_rng* r = rng.get();
 
   const bool persistent = spec.size.distribution == SizeDistribution::persistent;
@@ -457,6 +463,18 @@ std::vector<Joint> generate_stochastic_set(JointSetSpec& spec, std::size_t index
   if (spec.intensity == SetIntensity::p32 && !out.empty() &&
       area - target_area > target_area - (area - last_area))
     out.pop_back();
+  return out;
+}
+
+std::vector<Vec3> fisher_normals(const JointSetSpec& spec, std::uint64_t stream_seed,
+                                 std::size_t count) {
+  SLICE_ASSERT(spec.fisher_kappa > 0);
+  const Rng rng = make_rng(stream_seed);
+  const JointFrame mean = plane_frame(spec.dip_deg, spec.dip_direction_deg);
+  std::vector<Vec3> out;
+  out.reserve(count);
+  for (std::size_t i = 0; i < count; ++i)
+    out.push_back(draw_fisher(mean, spec.fisher_kappa, rng.get()));
   return out;
 }
 
