@@ -639,3 +639,88 @@ TEST_CASE("readers refuse files that are not joints or blocks files", "[h5io]") 
              Contains("missing.h5: no such file"));
   CHECK_THAT(test::error_of([&] { slice::read_blocks(dir.path()); }), Contains("is a directory"));
 }
+
+namespace {
+
+// Every local heap ("HEAP", version 0, the name store of an old-style group) in the bytes of an
+// HDF5 file whose lengths and addresses are 8 bytes (the library's default): its data segment's
+// size and address, and where its free-list head is stored.
+struct LocalHeap {
+  std::size_t head_at, data_size, data_at;
+};
+
+std::uint64_t le64(const std::string& b, std::size_t at) {
+  std::uint64_t v = 0;
+  for (int i = 7; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(b[at + i]);
+  return v;
+}
+
+void put_le64(std::string& b, std::size_t at, std::uint64_t v) {
+  for (int i = 0; i < 8; ++i) b[at + i] = static_cast<char>((v >> (8 * i)) & 0xff);
+}
+
+std::vector<LocalHeap> local_heaps(const std::string& b) {
+  std::vector<LocalHeap> heaps;
+  for (auto at = b.find("HEAP"); at != std::string::npos; at = b.find("HEAP", at + 4))
+    if (at + 32 <= b.size() && b[at + 4] == 0)
+      heaps.push_back({at + 16, le64(b, at + 8), le64(b, at + 24)});
+  return heaps;
+}
+
+// A joints.h5 whose local heaps' free lists are rewritten by edit(bytes, heap).
+fs::path spoiled_heaps(const test::TempDir& dir,
+                       const std::function<void(std::string&, const LocalHeap&)>& edit) {
+  const fs::path p = dir / "joints.h5";
+  slice::write_joints(p, sample_joints(), sample_provenance());
+  std::string bytes = test::read_bytes(p);
+  const auto heaps = local_heaps(bytes);
+  REQUIRE(heaps.size() >= 2);  // the root group's and /joints' at least
+  for (const LocalHeap& h : heaps) {
+    REQUIRE(h.data_size >= 64);
+    REQUIRE(h.data_at + h.data_size <= bytes.size());
+    edit(bytes, h);
+  }
+  test::write_text(p, bytes);
+  return p;
+}
+
+}  // namespace
+
+// HDF5 1.10.8 walks a local heap's free list allocating a node per block until the list ends:
+// a list that points back into itself made H5Lexists allocate 16.9 GB (fuzz_export's find,
+// tests/fuzz/regressions/h5/hdf5-local-heap-loop-*). The readers' checked driver walks the list
+// first, bounded by the heap's size.
+TEST_CASE("a local heap whose free list loops is refused, not walked without end", "[h5io]") {
+  test::TempDir dir;
+  SECTION("a free block that links to itself") {
+    const fs::path p = spoiled_heaps(dir, [](std::string& b, const LocalHeap& h) {
+      put_le64(b, h.head_at, 16);
+      put_le64(b, h.data_at + 16, 16);  // next: itself
+      put_le64(b, h.data_at + 24, 16);  // its size
+    });
+    const std::string msg = test::error_of([&] { slice::read_joints(p); });
+    CHECK_THAT(msg, Contains(p.string() + ": "));
+    CHECK_THAT(msg, Contains("has a list of free blocks that loops (damaged file)"));
+    CHECK(msg.find('\n') == std::string::npos);
+  }
+  SECTION("two free blocks that link to each other") {
+    const fs::path p = spoiled_heaps(dir, [](std::string& b, const LocalHeap& h) {
+      put_le64(b, h.head_at, 16);
+      put_le64(b, h.data_at + 16, 40);
+      put_le64(b, h.data_at + 24, 16);
+      put_le64(b, h.data_at + 40, 16);
+      put_le64(b, h.data_at + 48, 16);
+    });
+    CHECK_THAT(test::error_of([&] { slice::read_joints(p); }), Contains("loops (damaged file)"));
+  }
+  SECTION("a free block whose links run past the heap's end") {
+    const fs::path p = spoiled_heaps(
+        dir, [](std::string& b, const LocalHeap& h) { put_le64(b, h.head_at, h.data_size - 4); });
+    CHECK_THAT(test::error_of([&] { slice::read_joints(p); }),
+               Contains("has a free block past its end (damaged file)"));
+  }
+  SECTION("an intact list of the same file still reads") {
+    const fs::path p = spoiled_heaps(dir, [](std::string&, const LocalHeap&) {});
+    check_same(slice::read_joints(p), sample_joints());
+  }
+}

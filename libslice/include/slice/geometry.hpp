@@ -34,7 +34,8 @@ struct Face {
 };
 
 /// Bits of Block::flags (HDF5 /blocks/flags; docs/design.md, "Files and schema").
-// kFixed: the block touches a face of the domain named in [options] fixed_faces.
+// kFixed: the block touches a face of the domain named in [options] fixed_faces, or slice-extract
+// fixed it (it lies across the boundary ring of an extracted sub-model).
 enum BlockFlag : std::uint8_t { kBoundary = 1u << 0, kRemoved = 1u << 1, kFixed = 1u << 2 };
 
 struct Block {

@@ -8,6 +8,7 @@
 #include <system_error>
 #include <type_traits>
 
+#include "checked_driver.hpp"
 #include "slice/error.hpp"
 #include "slice/h5io.hpp"
 
@@ -23,10 +24,15 @@ namespace {
 // in a thread-safe HDF5 (Debian's), so a thread that calls HDF5 calls it too (silence_thread).
 void silence() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
-herr_t collect(unsigned /*n*/, const H5E_error2_t* e, void* data) {
-  auto& descs = *static_cast<std::vector<std::string>*>(data);
-  if (e != nullptr && e->desc != nullptr && e->desc[0] != '\0') descs.emplace_back(e->desc);
-  return 0;
+// Called by HDF5's C code: nothing may be thrown through it (out of memory ends the walk).
+herr_t collect(unsigned /*n*/, const H5E_error2_t* e, void* data) noexcept {
+  try {
+    auto& descs = *static_cast<std::vector<std::string>*>(data);
+    if (e != nullptr && e->desc != nullptr && e->desc[0] != '\0') descs.emplace_back(e->desc);
+    return 0;
+  } catch (...) {
+    return -1;
+  }
 }
 
 // The outermost and innermost descriptions on HDF5's error stack, e.g. " (HDF5: unable to open
@@ -670,7 +676,11 @@ File File::open(const fs::path& path, Context ctx, bool writable) {
   if (is_hdf5 < 0) fail_h5(ctx, "cannot read the file");
   if (is_hdf5 == 0)
     throw Error(ctx.file, "not an HDF5 file", "give a .h5 file written by a rockslice tool");
-  Handle f = own(H5Fopen(path.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, H5P_DEFAULT),
+  // Read-only files go through the checked driver (checked_driver.hpp): HDF5 alone can be made
+  // to allocate without end by a damaged local heap.
+  const hid_t fapl =
+      writable ? H5P_DEFAULT : check(checked_read_fapl(), ctx, "cannot open the file");
+  Handle f = own(H5Fopen(path.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl),
                  Handle::Type::file, ctx, "cannot open the file");
   Handle root = own(H5Gopen2(f.id(), "/", H5P_DEFAULT), Handle::Type::group, ctx,
                     "cannot open the root group");

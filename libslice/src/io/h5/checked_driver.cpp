@@ -1,0 +1,273 @@
+#include "checked_driver.hpp"
+
+#include <fcntl.h>
+#include <hdf5.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <new>
+#include <string>
+#include <vector>
+
+namespace slice::h5 {
+
+namespace {
+
+// The largest address a pread offset can hold, as HDF5's sec2 driver has it.
+constexpr haddr_t kMaxAddr = (haddr_t{1} << (8 * sizeof(off_t) - 1)) - 1;
+// The end of a local heap's free list (H5HL_FREE_NULL in HDF5's H5HLprivate.h).
+constexpr std::uint64_t kFreeNull = 1;
+
+struct CheckedFile {
+  H5FD_t pub;  // first: HDF5 hands this pointer back to every callback
+  int fd = -1;
+  dev_t dev = 0;
+  ino_t ino = 0;
+  haddr_t eoa = 0;
+  haddr_t eof = 0;
+  unsigned offsets = 0;  // bytes of an address and of a length in this file (its superblock);
+  unsigned lengths = 0;  // 0: not known, nothing is checked
+  std::vector<haddr_t> heaps_checked;
+};
+
+CheckedFile* cast(H5FD_t* f) { return reinterpret_cast<CheckedFile*>(f); }
+const CheckedFile* cast(const H5FD_t* f) { return reinterpret_cast<const CheckedFile*>(f); }
+
+// Pushes msg on HDF5's error stack, under the call that failed; h5.cpp's reason() shows it.
+herr_t fail(const char* func, const std::string& msg) {
+  H5Epush2(H5E_DEFAULT, __FILE__, func, __LINE__, H5E_ERR_CLS, H5E_VFL, H5E_READERROR, "%s",
+           msg.c_str());
+  return -1;
+}
+
+// Reads [addr, addr + size) of the file; bytes past its end read as zeros (as sec2 does).
+bool read_at(int fd, haddr_t addr, std::size_t size, unsigned char* out) {
+  while (size > 0) {
+    const std::size_t chunk = std::min<std::size_t>(size, std::size_t{1} << 30);
+    const ssize_t n = pread(fd, out, chunk, static_cast<off_t>(addr));
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return false;
+    if (n == 0) {
+      std::memset(out, 0, size);
+      return true;
+    }
+    const auto got = static_cast<std::size_t>(n);
+    out += got;
+    addr += got;
+    size -= got;
+  }
+  return true;
+}
+
+// A little-endian unsigned field of n bytes; all ones if it does not fit 64 bits.
+std::uint64_t decode(const unsigned char* p, unsigned n) {
+  std::uint64_t v = 0;
+  for (unsigned i = 0; i < n; ++i) {
+    if (i >= 8) {
+      if (p[i] != 0) return ~std::uint64_t{0};
+      continue;
+    }
+    v |= std::uint64_t{p[i]} << (8 * i);
+  }
+  return v;
+}
+
+// The sizes of addresses and lengths, from the superblock: at byte 0, 512, 1024, 2048, ...
+void read_superblock_sizes(CheckedFile& cf) {
+  static const unsigned char kSignature[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+  for (haddr_t at = 0; at + 16 <= cf.eof; at = at == 0 ? 512 : 2 * at) {
+    unsigned char b[16];
+    if (!read_at(cf.fd, at, sizeof b, b)) return;
+    if (std::memcmp(b, kSignature, sizeof kSignature) != 0) continue;
+    const unsigned version = b[8];
+    if (version <= 1) {
+      cf.offsets = b[13];
+      cf.lengths = b[14];
+    } else if (version <= 3) {
+      cf.offsets = b[9];
+      cf.lengths = b[10];
+    }
+    if (cf.offsets == 0 || cf.offsets > 32 || cf.lengths == 0 || cf.lengths > 32)
+      cf.offsets = cf.lengths = 0;
+    return;
+  }
+}
+
+// Walks the free list of the local heap whose prefix ("HEAP", version, sizes, addresses) HDF5
+// has just read at addr (image: the n bytes read). Returns an empty string if HDF5 may go on: the
+// list ends, or HDF5's own checks stop it (an offset or block past the heap, a zero link). A list
+// with more blocks than the heap's bytes can hold apart loops or overlaps: that is refused, as is
+// a block whose two fields run past the heap (HDF5 would read them past its buffer).
+std::string check_local_heap(CheckedFile& cf, haddr_t addr, const unsigned char* image,
+                             std::size_t n) {
+  const unsigned L = cf.lengths, O = cf.offsets;
+  if (L == 0 || n < 8 + 2 * std::size_t{L} + O || image[4] != 0) return {};
+  if (std::find(cf.heaps_checked.begin(), cf.heaps_checked.end(), addr) != cf.heaps_checked.end())
+    return {};
+  const std::uint64_t dblk_size = decode(image + 8, L);
+  const std::uint64_t free_head = decode(image + 8 + L, L);
+  const std::uint64_t dblk_addr = decode(image + 8 + 2 * L, O);
+  const haddr_t start = dblk_addr + cf.pub.base_addr;
+  if (free_head == kFreeNull || start < dblk_addr || start >= cf.eof) return {};
+
+  // The heap's bytes in the file (HDF5 reads zeros past its end, where every list stops).
+  const std::uint64_t visible = std::min<std::uint64_t>(dblk_size, cf.eof - start);
+  std::vector<unsigned char> data(visible + 2 * std::size_t{L}, 0);
+  if (!read_at(cf.fd, start, visible, data.data())) return {};
+
+  const std::string where = "the local heap at byte " + std::to_string(addr);
+  const std::uint64_t most = visible / (2 * L) + 1;
+  std::uint64_t count = 0;
+  for (std::uint64_t at = free_head; at != kFreeNull;) {
+    if (at >= dblk_size) return {};
+    if (dblk_size - at < 2 * L) return where + " has a free block past its end (damaged file)";
+    const std::uint64_t next = at < visible ? decode(data.data() + at, L) : 0;
+    const std::uint64_t size = at < visible ? decode(data.data() + at + L, L) : 0;
+    if (next == 0 || size > dblk_size - at) return {};
+    if (++count > most) return where + " has a list of free blocks that loops (damaged file)";
+    at = next;
+  }
+  cf.heaps_checked.push_back(addr);
+  return {};
+}
+
+// --- the driver's callbacks ------------------------------------------------------------------
+
+H5FD_t* open_file(const char* name, unsigned flags, hid_t /*fapl*/, haddr_t maxaddr) {
+  if ((flags & (H5F_ACC_RDWR | H5F_ACC_CREAT | H5F_ACC_TRUNC)) != 0) {
+    fail("open_file", "this driver only reads files");
+    return nullptr;
+  }
+  if (maxaddr == 0 || maxaddr == HADDR_UNDEF || maxaddr > kMaxAddr) {
+    fail("open_file", "bad maximum address");
+    return nullptr;
+  }
+  const int fd = ::open(name, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    fail("open_file", std::string("cannot open the file: ") + std::strerror(errno));
+    return nullptr;
+  }
+  struct stat st {};
+  if (fstat(fd, &st) != 0) {
+    const std::string why = std::strerror(errno);
+    ::close(fd);
+    fail("open_file", "cannot stat the file: " + why);
+    return nullptr;
+  }
+  auto* cf = new (std::nothrow) CheckedFile();
+  if (cf == nullptr) {
+    ::close(fd);
+    fail("open_file", "out of memory");
+    return nullptr;
+  }
+  cf->fd = fd;
+  cf->dev = st.st_dev;
+  cf->ino = st.st_ino;
+  cf->eof = static_cast<haddr_t>(st.st_size);
+  read_superblock_sizes(*cf);
+  return &cf->pub;
+}
+
+herr_t close_file(H5FD_t* f) {
+  CheckedFile* cf = cast(f);
+  const int r = ::close(cf->fd);
+  delete cf;
+  return r == 0 ? 0 : fail("close_file", "cannot close the file");
+}
+
+int compare(const H5FD_t* a, const H5FD_t* b) {
+  const CheckedFile *x = cast(a), *y = cast(b);
+  if (x->dev != y->dev) return x->dev < y->dev ? -1 : 1;
+  if (x->ino != y->ino) return x->ino < y->ino ? -1 : 1;
+  return 0;
+}
+
+// No metadata accumulation: each metadata read reaches read_file as HDF5 asked for it, with its
+// type, so a local heap's prefix arrives at the start of a buffer.
+herr_t query(const H5FD_t* /*f*/, unsigned long* flags) {
+  if (flags != nullptr) *flags = H5FD_FEAT_AGGREGATE_METADATA | H5FD_FEAT_DATA_SIEVE;
+  return 0;
+}
+
+haddr_t get_eoa(const H5FD_t* f, H5FD_mem_t /*type*/) { return cast(f)->eoa; }
+
+herr_t set_eoa(H5FD_t* f, H5FD_mem_t /*type*/, haddr_t addr) {
+  if (addr > kMaxAddr) return fail("set_eoa", "address overflow");
+  cast(f)->eoa = addr;
+  return 0;
+}
+
+haddr_t get_eof(const H5FD_t* f, H5FD_mem_t /*type*/) { return cast(f)->eof; }
+
+herr_t get_handle(H5FD_t* f, hid_t /*fapl*/, void** handle) {
+  if (handle == nullptr) return fail("get_handle", "no handle pointer");
+  *handle = &cast(f)->fd;
+  return 0;
+}
+
+herr_t read_file(H5FD_t* f, H5FD_mem_t type, hid_t /*dxpl*/, haddr_t addr, std::size_t size,
+                 void* buffer) {
+  CheckedFile* cf = cast(f);
+  if (addr == HADDR_UNDEF || addr > kMaxAddr || size > kMaxAddr - addr || addr + size > cf->eoa)
+    return fail("read_file", "address past the end of the file's allocation");
+  auto* out = static_cast<unsigned char*>(buffer);
+  if (!read_at(cf->fd, addr, size, out))
+    return fail("read_file", std::string("read failed: ") + std::strerror(errno));
+  if (type == H5FD_MEM_LHEAP && size >= 4 && std::memcmp(out, "HEAP", 4) == 0) {
+    const std::string damage = check_local_heap(*cf, addr, out, size);
+    if (!damage.empty()) return fail("read_file", damage);
+  }
+  return 0;
+}
+
+herr_t write_file(H5FD_t* /*f*/, H5FD_mem_t /*type*/, hid_t /*dxpl*/, haddr_t /*addr*/,
+                  std::size_t /*size*/, const void* /*buffer*/) {
+  return fail("write_file", "this driver only reads files");
+}
+
+herr_t nothing_to_do(H5FD_t* /*f*/, hid_t /*dxpl*/, hbool_t /*closing*/) { return 0; }
+
+H5FD_class_t make_class() {
+  H5FD_class_t c{};
+  c.name = "rockslice-checked";
+  c.maxaddr = kMaxAddr;
+  c.fc_degree = H5F_CLOSE_WEAK;
+  c.open = open_file;
+  c.close = close_file;
+  c.cmp = compare;
+  c.query = query;
+  c.get_eoa = get_eoa;
+  c.set_eoa = set_eoa;
+  c.get_eof = get_eof;
+  c.get_handle = get_handle;
+  c.read = read_file;
+  c.write = write_file;
+  c.flush = nothing_to_do;
+  c.truncate = nothing_to_do;
+  const H5FD_mem_t map[] = H5FD_FLMAP_DICHOTOMY;
+  std::copy(std::begin(map), std::end(map), std::begin(c.fl_map));
+  return c;
+}
+
+}  // namespace
+
+std::int64_t checked_read_fapl() {
+  static const H5FD_class_t cls = make_class();
+  static const hid_t fapl = [] {
+    const hid_t driver = H5FDregister(&cls);
+    if (driver < 0) return hid_t{-1};
+    const hid_t p = H5Pcreate(H5P_FILE_ACCESS);
+    if (p < 0) return hid_t{-1};
+    if (H5Pset_driver(p, driver, nullptr) < 0) {
+      H5Pclose(p);
+      return hid_t{-1};
+    }
+    return p;
+  }();
+  return fapl;
+}
+
+}  // namespace slice::h5
