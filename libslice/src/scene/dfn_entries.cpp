@@ -316,6 +316,13 @@ DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, s
                 "fracture's radius, e.g. 1e-4")
           : kDefaultPlanarity;
 
+  // The file's sets, with their properties; each joint takes its set's.
+  std::vector<JointSetSpec> specs;
+  for (std::size_t s = 0; s < dfn.sets.size(); ++s) {
+    Joint like;
+    give(props[s], like);
+    specs.push_back(given_set(dfn.sets[s], like));
+  }
   for (const DfnFracture& f : dfn.fractures) {
     Joint j;
     if (f.disc) {
@@ -350,8 +357,7 @@ DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, s
                  : "correct the fracture's nodes, or raise 'planarity' in " + t.ctx +
                        " if they carry few digits");
     }
-    give(props[f.set], j);
-    j.set = static_cast<std::int32_t>(first_set + f.set);
+    set_joint_properties(j, specs[f.set], static_cast<std::int32_t>(first_set + f.set));
     d.joints.push_back(std::move(j));
   }
   // The file's own order (as-given), or sorted within the entry by `order`.
@@ -370,9 +376,7 @@ DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, s
     if (!names.insert(dfn.sets[s]).second)
       r.fail(node, in_file + ": its set \"" + dfn.sets[s] + "\" has the name of another set",
              "rename one of them (in the file, or the other set's name)");
-    Joint like;
-    give(props[s], like);
-    d.sets.push_back(given_set(dfn.sets[s], like));
+    d.sets.push_back(specs[s]);
     d.set_places.push_back({props[s].stage, place.line, place.entry});
   }
   return d;
