@@ -6,8 +6,6 @@
 #include <string>
 #include <vector>
 
-#include "slice/hash.hpp"
-
 // What joints_file.cpp, blocks_file.cpp and geometry_file.cpp share: messages, the root header,
 // the checks of a read dataset's shape.
 namespace slice::h5file {
@@ -151,11 +149,6 @@ FileHeader read_header(const fs::path& in) {
   const h5::File f =
       h5::File::open(in, {in.string(), "regenerate it with the rockslice tool that made it"});
   return read_root_header(f.root());
-}
-
-void add_input(Provenance& p, const std::filesystem::path& file) {
-  p.input += "; " + file.string();
-  p.input_sha256 += "; " + sha256_file(file);
 }
 
 }  // namespace slice
