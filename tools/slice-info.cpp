@@ -130,11 +130,29 @@ ordered_json describe_shapes(const slice::BlockSystem& bs) {
                         {"blocks", s.count[c]},
                         {"volume", s.volume[c]},
                         {"volume_fraction", volume > 0 ? s.volume[c] / volume : 0.0}});
+  // Kalenchuk's beta (UnBlocks-gen's eq. 5) beside the classes: its range over the kept blocks
+  // where it is defined.
+  std::size_t defined = 0;
+  double lo = INFINITY, hi = -INFINITY, sum = 0;
+  for (std::size_t b = 0; b < shapes.size(); ++b)
+    if (keep[b] && !std::isnan(shapes[b].beta_k)) {
+      ++defined;
+      lo = std::min(lo, shapes[b].beta_k);
+      hi = std::max(hi, shapes[b].beta_k);
+      sum += shapes[b].beta_k;
+    }
+  const ordered_json beta_k =
+      defined == 0 ? ordered_json{{"blocks", 0}}
+                   : ordered_json{{"blocks", defined},
+                                  {"min", lo},
+                                  {"mean", sum / double(defined)},
+                                  {"max", hi}};
   return {
       {"method", "alpha = A lbar / (7.7 V), beta = MBSCT elongation index: docs/block-shape.md"},
       {"blocks", kept},
       {"volume", volume},
-      {"by_class", by_class}};
+      {"by_class", by_class},
+      {"beta_kalenchuk", beta_k}};
 }
 
 void print_text(const ordered_json& j, const std::string& indent = "") {

@@ -99,12 +99,24 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < scene.set_traces.size(); ++i) {
       const slice::SectionTrace& tr = scene.set_traces[i];
       const slice::JointSetSpec& s = js.sets.at(i);
-      t.say("set \"" + slice::escape_control(s.name) + "\" (dip " + tool::sig(tr.dip_deg, 6) +
-            ", dip direction " + tool::sig(tr.dip_direction_deg, 6) + ") in the section (strike " +
-            tool::sig(scene.section->strike_deg, 6) + "): apparent dip " +
-            tool::fixed(tr.apparent_dip_deg, 2) + " towards " +
-            tool::sig(tr.apparent_dip_direction_deg, 3) + ", spacing " + tool::sig(s.spacing, 6) +
-            ", " + std::to_string(s.candidates) + " lines");
+      std::string line = "set \"" + slice::escape_control(s.name) + "\" (dip " +
+                         tool::sig(tr.dip_deg, 6) + ", dip direction " +
+                         tool::sig(tr.dip_direction_deg, 6) + ") in the section (strike " +
+                         tool::sig(scene.section->strike_deg, 6) + "): apparent dip " +
+                         tool::fixed(tr.apparent_dip_deg, 2) + " towards " +
+                         tool::sig(tr.apparent_dip_direction_deg, 3);
+      if (s.intensity == slice::SetIntensity::spacing) {
+        line +=
+            ", spacing " + tool::sig(s.spacing, 6) + ", " + std::to_string(s.candidates) + " lines";
+      } else {  // a stochastic set: the traces of its 3-D joints (achieved_p32: their P21)
+        line += " (the mean plane's), " + std::to_string(s.joint_count) + " traces of " +
+                std::to_string(s.candidates) + " joints drawn in 3-D, P21 " +
+                tool::sig(s.achieved_p32, 6);
+        if (s.intensity == slice::SetIntensity::p32)
+          line +=
+              " (p32 x sin theta of the mean plane: " + tool::sig(s.p32 * tr.sin_angle, 6) + ")";
+      }
+      t.say(line);
     }
     for (const auto& s : js.sets)
       if (s.mapping.given) t.say(trace_line(s));

@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -123,6 +124,41 @@ py::array joint_field(const py::handle& h, const T* (*field)(const slice::Joint&
               sizeof(slice::Joint), cols);
 }
 
+// The traces of each set's joints on its mapping window, as slice-joints reports them and
+// slice-info --json lists them (scene.hpp TraceStats): columns trace_*; a set without a window
+// has trace_window False, count 0 and NaN statistics. mapped_mean / mapped_sd: the trace lengths
+// mapped there, NaN when not given.
+void add_trace_columns(py::dict& d, const std::vector<slice::JointSetSpec>& sets) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<bool> window;
+  std::vector<std::int64_t> count, censored;
+  std::vector<double> mean, sd, complete, p21, mapped_mean, mapped_sd;
+  for (const auto& s : sets) {
+    const slice::TraceStats& t = s.traces;
+    const bool given = s.mapping.given;
+    window.push_back(given);
+    count.push_back(given ? t.count : 0);
+    for (const std::int64_t c : t.censored) censored.push_back(given ? c : 0);
+    mean.push_back(given ? t.mean : nan);
+    sd.push_back(given ? t.sd : nan);
+    complete.push_back(given ? t.complete_mean : nan);
+    p21.push_back(given ? t.p21 : nan);
+    mapped_mean.push_back(given && s.mapping.field_mean > 0 ? s.mapping.field_mean : nan);
+    mapped_sd.push_back(given && s.mapping.field_sd > 0 ? s.mapping.field_sd : nan);
+  }
+  py::array_t<bool> w(py::ssize_t(window.size()));
+  for (std::size_t i = 0; i < window.size(); ++i) w.mutable_at(py::ssize_t(i)) = window[i];
+  d["trace_window"] = w;
+  d["trace_count"] = owned(std::move(count));
+  d["trace_censored"] = owned(std::move(censored), 3);
+  d["trace_mean"] = owned(std::move(mean));
+  d["trace_sd"] = owned(std::move(sd));
+  d["trace_complete_mean"] = owned(std::move(complete));
+  d["trace_p21"] = owned(std::move(p21));
+  d["mapped_mean"] = owned(std::move(mapped_mean));
+  d["mapped_sd"] = owned(std::move(mapped_sd));
+}
+
 // The joint sets ([[sets]] entries) as columns.
 py::dict sets_of(const Model& m) {
   const auto& sets = m.bs->joints.sets;
@@ -160,6 +196,7 @@ py::dict sets_of(const Model& m) {
   d["joint_count"] = owned(std::move(count));
   d["achieved_p32"] = owned(std::move(p32));
   d["achieved_p10"] = owned(std::move(p10));
+  add_trace_columns(d, sets);
   return d;
 }
 

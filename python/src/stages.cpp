@@ -36,15 +36,17 @@ Stage stage_of(const slice::BlockSystem& bs) {
 }
 
 // The joints of a scene: a file (`text` empty) or TOML text standing for the file `name`.
+// `prov`: who made them from what, as slice-joints records it: the scene (the file's bytes or
+// the text's) and every file it names (mesh zones, surfaces, DFN files), hashed.
 slice::JointSystem generate(const std::string& text, const fs::path& name,
-                            std::optional<std::uint64_t> seed) {
+                            std::optional<std::uint64_t> seed, const std::string& call,
+                            slice::Provenance& prov) {
   slice::Scene scene = text.empty() ? slice::load_scene(name) : slice::parse_scene(text, name);
   if (seed) scene.seed = *seed;
+  prov = python_provenance(call, name.string(),
+                           text.empty() ? slice::sha256_file(name) : slice::sha256_hex(text));
+  for (const auto& [what, file] : slice::scene_files(scene)) slice::add_input(prov, file);
   return slice::generate_joints(scene);
-}
-
-std::string input_sha256(const std::string& text, const fs::path& name) {
-  return text.empty() ? slice::sha256_file(name) : slice::sha256_hex(text);
 }
 
 // An input file that does not exist is an OSError (FileNotFoundError), with the library's line.
@@ -91,15 +93,11 @@ void bind_stages(py::module_& m) {
          const std::string& call, const py::object& progress) {
         if (text.empty()) check_input(name);
         slice::BlockSystem bs;
-        std::string sha;
+        slice::Provenance prov;
         run_interruptible(
-            [&](const slice::Progress&) {
-              bs.joints = generate(text, name, seed);
-              sha = input_sha256(text, name);
-            },
+            [&](const slice::Progress&) { bs.joints = generate(text, name, seed, call, prov); },
             progress);
-        return make_model(std::move(bs), Stage::joints,
-                          python_provenance(call, name.string(), sha));
+        return make_model(std::move(bs), Stage::joints, prov);
       },
       py::arg("text"), py::arg("name"), py::arg("seed"), py::arg("call"), py::arg("progress"));
 
@@ -110,11 +108,10 @@ void bind_stages(py::module_& m) {
         if (text.empty()) check_input(name);
         const slice::CutOptions opt = cut_options(args);
         slice::BlockSystem bs;
-        std::string sha;
+        slice::Provenance prov;
         run_interruptible(
             [&](const slice::Progress& p) {
-              const slice::JointSystem js = generate(text, name, seed);
-              sha = input_sha256(text, name);
+              const slice::JointSystem js = generate(text, name, seed, call, prov);
               bs = std::move(slice::cut_blocks(js, opt, p).blocks);
               if (!prune) return;
               // As slice-cut --prune: the cut's blocks are solids by construction.
@@ -123,7 +120,7 @@ void bind_stages(py::module_& m) {
             },
             progress);
         const Stage stage = stage_of(bs);
-        return make_model(std::move(bs), stage, python_provenance(call, name.string(), sha));
+        return make_model(std::move(bs), stage, prov);
       },
       py::arg("text"), py::arg("name"), py::arg("seed"), py::arg("cut"), py::arg("prune"),
       py::arg("call"), py::arg("progress"));

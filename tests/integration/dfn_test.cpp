@@ -3,6 +3,7 @@
 #include "slice/dfn.hpp"
 
 #include <algorithm>
+#include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include "slice/hash.hpp"
 #include "slice/orientation.hpp"
 #include "slice/scene.hpp"
+#include "support/blocks_check.hpp"
 #include "support/compare.hpp"
 #include "support/support.hpp"
 
@@ -160,6 +162,131 @@ TEST_CASE("the polygons of a FAB file cut the blocks that the same polygons as [
   CHECK_THAT(commands, Contains("; JS 2: set \"B\"\n"));
   CHECK_THAT(commands, Contains("; JS 3: set \"C\"\n"));
   CHECK_THAT(commands, !Contains("[[joints]] entry"));
+}
+
+namespace {
+
+// kFab with two tessellated fractures: a horizontal square of four triangles about its middle
+// (set A; a face line "k a b c 0" and one property) and a vertical rectangle of two (set B; a face
+// line "k 3 a b c" and one property), the two layouts of face lines found in public readers.
+std::string tess_fab() {
+  std::string s = kFab;
+  s.replace(s.find("No_TessFractures = 0"), 20, "No_TessFractures = 2");
+  s.replace(s.find("BEGIN TESSFRACTURE\n"), 19, R"(BEGIN TESSFRACTURE
+6 5 4 1
+1 1 1 5
+2 9 1 5
+3 9 9 5
+4 1 9 5
+5 5 5 5
+1 1 2 5 0 1e-6
+2 2 3 5 0 1e-6
+3 3 4 5 0 1e-6
+4 4 1 5 0 1e-6
+7 4 2 2
+1 7 2 2
+2 7 8 2
+3 7 8 9
+4 7 2 9
+1 3 1 2 3 2e-6
+2 3 1 3 4 2e-6
+)");
+  return s;
+}
+
+// The sorted volumes of the blocks.
+std::vector<double> volumes(const slice::BlockSystem& bs) {
+  std::vector<double> v;
+  for (const auto& b : bs.blocks) v.push_back(test::block_volume(b, 1e-9));
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("FAB tessellated fractures: planar meshes that tile a convex polygon are its joint",
+          "[tools][dfn]") {
+  test::TempDir tmp;
+  test::write_text(tmp / "net.fab", tess_fab());
+  const slice::DfnFile file = slice::read_fab(tmp / "net.fab");
+  REQUIRE(file.fractures.size() == 7);
+  CHECK(file.fractures[5].tessellated);
+  CHECK(file.fractures[5].line == 54);
+  CHECK(file.fractures[5].nodes.size() == 5);
+  CHECK(file.fractures[5].faces.size() == 4);
+  CHECK(file.fractures[6].set == 1);
+  CHECK(file.fractures[6].faces[1] == std::array<std::int64_t, 5>{2, 3, 1, 3, 4});
+
+  const slice::BlockSystem fab =
+      cut(tmp, "fab", std::string(kHead) + "[[dfn]]\nfile = \"net.fab\"\n");
+  const slice::JointSystem& js = fab.joints;
+  REQUIRE(js.joints.size() == 7);
+  CHECK(js.joints[5].set == 0);
+  CHECK(js.joints[6].set == 1);
+  CHECK_THAT(js.joints[5].dip_deg, WithinAbs(0, 1e-12));
+  CHECK_THAT(js.joints[6].dip_deg, WithinAbs(90, 1e-12));
+  CHECK(js.joints[5].polygon_uv.size() == 4);  // the hull's corners, the middle node inside
+  CHECK(js.joints[6].polygon_uv.size() == 4);
+  CHECK_THAT(std::abs(js.joints[5].plane.distance(Vec3(3, 4, 5))), WithinAbs(0, 1e-12));
+  CHECK_THAT(std::abs(js.joints[6].plane.distance(Vec3(7, 0, 0))), WithinAbs(0, 1e-12));
+
+  // The same outlines as [[joints]] polygons cut blocks of the same volumes.
+  std::string hand = std::string(kHead) + "[[dfn]]\nfile = \"five.fab\"\n";
+  test::write_text(tmp / "five.fab", kFab);
+  hand +=
+      "[[joints]]\ndip = 0\ndip_direction = 0\npolygon = [[1, 1, 5], [9, 1, 5], [9, 9, 5], [1, 9, "
+      "5]]\n";
+  hand +=
+      "[[joints]]\ndip = 90\ndip_direction = 90\npolygon = [[7, 2, 2], [7, 8, 2], [7, 8, 9], [7, "
+      "2, 9]]\n";
+  const slice::BlockSystem by_hand = cut(tmp, "hand", hand);
+  const auto a = volumes(fab), b = volumes(by_hand);
+  REQUIRE(a.size() == b.size());
+  CHECK(a.size() >
+        volumes(cut(tmp, "five", std::string(kHead) + "[[dfn]]\nfile = \"five.fab\"\n")).size());
+  for (std::size_t i = 0; i < a.size(); ++i) CHECK_THAT(a[i], WithinAbs(b[i], 1e-9));
+
+  // Refused with the file's line: bad lines, and meshes that are not one planar convex polygon.
+  const std::string good = tess_fab();
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    std::string s = good;
+    const auto at = s.find(from);
+    REQUIRE(at != std::string::npos);
+    return s.replace(at, from.size(), to);
+  };
+  struct Case {
+    std::string name, text;
+    std::vector<std::string> words;
+  };
+  const std::vector<Case> cases = {
+      {"count",
+       replace("No_TessFractures = 2", "No_TessFractures = 3"),
+       {"net.fab:1:", "No_TessFractures = 3", "2 tessellated"}},
+      {"head", replace("6 5 4 1\n", "6 5 4\n"), {"net.fab:54:", "expected 4 (id, node count"}},
+      {"faces", replace("6 5 4 1\n", "6 5 5 1\n"), {"net.fab:64:", "face 5 of fracture 6"}},
+      {"nan", replace("2 2 3 5 0 1e-6", "2 2 3 5 0 nan"), {"net.fab:61:", "not a finite number"}},
+      {"whole",
+       replace("1 1 2 5 0 1e-6", "1 1.5 2 5 0 1e-6"),
+       {"net.fab:60:", "not a whole number"}},
+      {"index", replace("4 4 1 5 0 1e-6", "4 4 9 5 0 1e-6"), {"net.fab:54:", "within 1..5"}},
+      {"planar", replace("5 5 5 5\n", "5 5 5 6\n"), {"net.fab:54:", "fracture 6", "not planar"}},
+      {"convex",
+       replace("3 9 9 5\n", "3 4 4 5\n"),
+       {"net.fab:54:", "tessellated fracture 6", "not one convex polygon"}},
+      {"end", replace("END TESSFRACTURE\n", ""), {"END TESSFRACTURE is missing", "line 53"}},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.name);
+    test::write_text(tmp / "net.fab", c.text);
+    test::write_text(tmp / "s.toml", std::string(kHead) + "[[dfn]]\nfile = \"net.fab\"\n");
+    const auto out = tmp / "j.h5";
+    const auto r = run_tool("slice-joints", {(tmp / "s.toml").string(), "-o", out.string()});
+    CAPTURE(r.err);
+    CHECK(r.exit_code == 1);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    for (const auto& w : c.words) CHECK_THAT(r.err, Contains(w));
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
 }
 
 TEST_CASE("slice-export --format fab writes a DFN that reads back as the same joints",
@@ -342,9 +469,10 @@ TEST_CASE("bad DFN files are refused by slice-joints with one line naming the li
       {"short",
        replace("3 8 8 3\n4 1 8 3\n", "3 8 8 3\n"),
        {"net.fab:27:", "normal line of fracture 1"}},
-      {"tess",
-       replace("BEGIN TESSFRACTURE\n", "BEGIN TESSFRACTURE\n1 3 1 1\n"),
-       {"TESSFRACTURE", "not read"}},
+      {"rock",
+       replace("BEGIN TESSFRACTURE\n",
+               "BEGIN ROCKBLOCK\n1 3 1 1\nEND ROCKBLOCK\nBEGIN TESSFRACTURE\n"),
+       {"ROCKBLOCK", "not read"}},
       {"binary", replace("Format = Ascii", "Format = Binary"), {"net.fab:2:", "ASCII"}},
   };
   for (const Case& c : cases) {

@@ -58,6 +58,11 @@ TEST_CASE("slice-info: 1000 unit cubes are all of class C", "[tools][block-shape
   CHECK(c["blocks"] == 1000);
   CHECK_THAT(c["volume"].get<double>(), WithinRel(1000, 1e-12));
   CHECK_THAT(c["volume_fraction"].get<double>(), WithinAbs(1, 1e-12));
+  // Kalenchuk's beta of a cube, 10/9 (docs/block-shape.md), for every block.
+  const auto& bk = j["shape"]["beta_kalenchuk"];
+  CHECK(bk["blocks"] == 1000);
+  CHECK_THAT(bk["min"].get<double>(), WithinRel(10.0 / 9, 1e-9));
+  CHECK_THAT(bk["max"].get<double>(), WithinRel(10.0 / 9, 1e-9));
   // The text form says the same.
   const auto t = run_tool("slice-info", {geom});
   REQUIRE(t.exit_code == 0);

@@ -11,6 +11,8 @@
 #include <sstream>
 
 #include "slice/h5io.hpp"
+#include "slice/mesh.hpp"
+#include "slice/surface.hpp"
 #include "slice/vertices.hpp"
 #include "support/pipeline.hpp"
 #include "support/support.hpp"
@@ -239,6 +241,40 @@ TEST_CASE("a cut TIN surface keeps exactly the rock below it (random TINs, OBJ a
     CHECK_THAT(r.kept + r.removed, WithinRel(kBoxVolume, 1e-9));
     CHECK(r.misplaced == 0);
   }
+}
+
+TEST_CASE("a TIN that folds outside the domain's plan is cropped: the rock below it is kept",
+          "[tools][zones][surface]") {
+  // A TIN over [0, 20] x [0, 16]; the domain's plan is [0, 10] x [0, 8]. Node (i 4, j 2), near
+  // (16, 8), pushed 6 m East past the border nodes: the triangles about it fold over, but lie
+  // beyond x = 11.2, outside the domain's plan and its margin (5 % of its diagonal, 0.64 m).
+  std::mt19937_64 rng(99);
+  Tin tin = random_tin(rng, 6, 5, 4, 10);
+  tin.nodes[2 * 6 + 4].x() += 6;
+  test::TempDir tmp;
+  test::write_text(tmp / "topo.obj", tin.obj());
+  const std::string box = "{ min = [0, 0, 0], max = [10, 8, 12] }";
+  // The whole surface is refused: slice-joints checks only what it keeps.
+  const auto whole = slice::read_mesh(tmp / "topo.obj");
+  CHECK_THAT(test::error_of([&] {
+               slice::check_height_field(
+                   whole, std::vector<Vec2>{{0, 0}, {20, 0}, {20, 16}, {0, 16}}, 1e-9, "topo.obj");
+             }),
+             Contains("overlap in plan"));
+  // The triangles over the domain, clipped to its plan, give the exact volume under them.
+  std::vector<Tri> inside;
+  for (const Tri& t : tin.triangles()) {
+    std::vector<Vec3> p(t.begin(), t.end());
+    for (const slice::Plane& h : {slice::Plane{Vec3::UnitX(), 10}, slice::Plane{Vec3::UnitY(), 8}})
+      if (p.size() >= 3) p = slice::clip_polygon(p, h);
+    for (std::size_t k = 1; p.size() >= 3 && k + 1 < p.size(); ++k)
+      inside.push_back({p[0], p[k], p[k + 1]});
+  }
+  const Result r = run(tmp, scene(box, "surface = \"topo.obj\"\ncut = true"), tin.triangles());
+  CHECK(r.blocks > 5);
+  CHECK_THAT(r.kept, WithinRel(volume_under(inside, 0, 12), 1e-9));
+  CHECK_THAT(r.kept + r.removed, WithinRel(10.0 * 8 * 12, 1e-9));
+  CHECK(r.misplaced == 0);
 }
 
 TEST_CASE("an ESRI ASCII grid surface: centres, the SW-NE diagonal, no-data outside the domain",

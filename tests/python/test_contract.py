@@ -195,3 +195,28 @@ def test_joints_changed_between_stages():
         joints.with_joints([0, 27])
     with pytest.raises(rockslice.Error, match="stage 'blocks'"):
         rockslice.cut(joints).with_joints([0])
+
+
+def test_the_provenance_hashes_every_file_the_scene_names(tmp_path):
+    # topo-slope.toml names a surface (topo-slope.asc): slice-joints records and hashes it beside
+    # the scene, and so does the module, for a scene file and for a scene given as a dict.
+    scene = data('topo-slope.toml')
+    j = tmp_path / 'j.h5'
+    run_tool('slice-joints', scene, '-o', j, '-q')
+    tool = provenance(j)
+    assert tool['input'] == scene + '; ' + data('topo-slope.asc')
+    assert len(tool['input_sha256'].split('; ')) == 2
+    joints = rockslice.joints(scene)
+    assert joints.provenance['input'] == tool['input']
+    assert joints.provenance['input_sha256'] == tool['input_sha256']
+    joints.save(tmp_path / 'mine.h5')
+    mine = provenance(tmp_path / 'mine.h5')
+    assert mine['input'] == tool['input'] and mine['input_sha256'] == tool['input_sha256']
+    # The file's hash changes with the surface's bytes, not only with the scene's.
+    asc = tmp_path / 'topo-slope.asc'
+    asc.write_bytes(open(data('topo-slope.asc'), 'rb').read() + b'\n')
+    toml = tmp_path / 'topo-slope.toml'
+    toml.write_bytes(open(scene, 'rb').read())
+    other = rockslice.joints(str(toml)).provenance['input_sha256'].split('; ')
+    assert other[0] == tool['input_sha256'].split('; ')[0]
+    assert other[1] != tool['input_sha256'].split('; ')[1]

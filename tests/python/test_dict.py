@@ -1,13 +1,15 @@
 # A scene given as a dict (the tables and keys of a scene file, as tomllib reads them) gives the
 # blocks its TOML file gives; a bad key is named by its place in the dict.
 import copy
+import json
 import tomllib
 
 import numpy as np
 import pytest
 
 import rockslice
-from conftest import data
+from conftest import data, run_tool
+from rockslice import _toml
 from test_contract import same_blocks
 
 SCENES = ['cube-3sets.toml', 'rock-slope.toml', 'vajont-section.toml', 'table3-lognormal.toml',
@@ -74,3 +76,46 @@ def test_bad_dict_scenes_name_the_key():
         rockslice.slice(bad)
     with pytest.raises(TypeError, match='not object'):
         rockslice.slice({'domain': {'box': object()}})
+
+
+def test_set_dict_has_the_trace_statistics_of_slice_joints(tmp_path):
+    # A spaced set and a stochastic set mapped on a vertical wall, one set without a window: the
+    # module's set columns trace_* are the statistics slice-info --json lists for slice-joints'
+    # file of the same scene.
+    window = {'point': [10, 10, 10], 'dip': 90, 'dip_direction': 180, 'width': 16, 'height': 12}
+    d = {'scene': {'name': 'mapped', 'seed': 31},
+         'domain': {'box': {'min': [0, 0, 0], 'max': [20, 20, 20]}},
+         'sets': [{'name': 'bedding', 'dip': 10, 'dip_direction': 140, 'spacing': 2.5,
+                   'fisher_kappa': 25, 'mapping': window},
+                  {'name': 'J1', 'dip': 80, 'dip_direction': 60, 'spacing': 4},
+                  {'name': 'J2', 'dip': 70, 'dip_direction': 300, 'density': 0.01,
+                   'size': {'distribution': 'lognormal', 'mean': 6, 'sd': 2},
+                   'shape': 'polygon', 'sides': 12, 'mapping': window,
+                   'trace_length': {'mean': 4.2, 'sd': 1.9}}]}
+    model = rockslice.joints(d)
+    sets = model.sets
+    model.save(tmp_path / 'j.h5')
+    info = json.loads(run_tool('slice-info', tmp_path / 'j.h5', '--json').stdout)
+    by_set = info['joints']['by_set']
+    assert list(sets['trace_window']) == [True, False, True]
+    for s in (0, 2):
+        t = by_set[s]['traces']
+        assert t['count'] >= 5
+        assert sets['trace_count'][s] == t['count']
+        assert list(sets['trace_censored'][s]) == t['censored']
+        for col, key in (('trace_mean', 'mean'), ('trace_sd', 'sd'),
+                         ('trace_complete_mean', 'complete_mean'), ('trace_p21', 'p21')):
+            assert sets[col][s] == t[key], col
+    assert sets['mapped_mean'][2] == 4.2 and sets['mapped_sd'][2] == 1.9
+    assert np.isnan(sets['mapped_mean'][0])
+    assert 'traces' not in by_set[1]
+    assert sets['trace_count'][1] == 0 and np.isnan(sets['trace_p21'][1])
+    # slice-joints on the same scene says the same count.
+    toml = tmp_path / 's.toml'
+    toml.write_text(_toml.dump(d)[0])
+    r = run_tool('slice-joints', toml, '-o', tmp_path / 'j2.h5')
+    assert 'set "J2": %d traces on its mapping window' % sets['trace_count'][2] in r.stderr
+    # A loaded file gives the same columns.
+    loaded = rockslice.load(tmp_path / 'j2.h5').sets
+    for col in ('trace_count', 'trace_mean', 'trace_p21'):
+        assert np.array_equal(loaded[col], sets[col], equal_nan=True), col

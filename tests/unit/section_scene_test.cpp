@@ -89,7 +89,7 @@ TEST_CASE("bad 2-D scenes are refused with the line and the fix", "[unit][scene]
                 {"bad.toml:8", "regular lines (spacing)", "segment = [[x1, z1], [x2, z2]]"});
   check_message(error_of(kHead + "[[sets]]\ndip = 10\ndip_direction = 90\nspacing = 1\n"
                                  "fisher_kappa = 10\n"),
-                {"bad.toml:9", "'fisher_kappa'", "not available in a 2-D scene"});
+                {"bad.toml:9", "'fisher_kappa'", "not available for a 2-D scene's regular set"});
   check_message(error_of(kHead + "[options]\nfixed_faces = [\"-y\"]\n"),
                 {"bad.toml:6", "names \"-y\" in a 2-D scene", "-x, +x, -z and +z"});
   check_message(

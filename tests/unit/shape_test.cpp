@@ -69,6 +69,10 @@ TEST_CASE("a cube: alpha 0.99904, beta 1/4, class C", "[block-shape]") {
   CHECK_THAT(s.alpha, WithinAbs(0.99904, 1e-5));
   CHECK_THAT(s.beta, WithinAbs(0.25, 1e-14));
   CHECK(s.shape == ShapeClass::C);
+  // Kalenchuk's beta (UnBlocks-gen's eq. 5): the chords longer than the median sqrt 2 are the 4
+  // space diagonals (+-1, +-1, +-1); T = sum d d^T = 4 I, |T|_F^2 = 48, (tr T)^2 = 144:
+  // beta_k = 10 (1/3)^2 = 10/9.
+  CHECK_THAT(s.beta_k, WithinRel(10.0 / 9, 1e-14));
 }
 
 TEST_CASE("plates and a rod: alpha and beta by hand", "[block-shape]") {
@@ -80,6 +84,12 @@ TEST_CASE("plates and a rod: alpha and beta by hand", "[block-shape]") {
     CHECK_THAT(s.alpha, WithinAbs(3.0910, 1e-4));
     CHECK_THAT(s.beta, WithinRel(1.0 / 10201, 1e-12));
     CHECK(s.shape == ShapeClass::PC);
+    // Kalenchuk's beta: longer than sqrt 101 are the 4 top and bottom diagonals (10, +-10, 0)
+    // and the 4 space diagonals (10, +-10, +-1): T = diag(800, 800, 4), |T|_F^2 = 1,280,016,
+    // (tr T)^2 = 1604^2 = 2,572,816.
+    const double r = 1280016.0 / 2572816;
+    CHECK_THAT(s.beta_k, WithinRel(10 * r * r, 1e-13));
+    CHECK_THAT(s.beta_k, WithinAbs(2.4752, 1e-4));
   }
   SECTION("a 20 x 20 x 1 plate: class P") {
     const auto s = shape_of(box(20, 20, 1));
@@ -96,6 +106,12 @@ TEST_CASE("plates and a rod: alpha and beta by hand", "[block-shape]") {
     CHECK_THAT(s.alpha, WithinAbs(3.3985, 1e-4));
     CHECK_THAT(s.beta, WithinRel(10000.0 / 10201, 1e-14));
     CHECK(s.shape == ShapeClass::E);
+    // Kalenchuk's beta: longer than 10 are the 8 side-face diagonals (+-1, 0, 10), (0, +-1, 10)
+    // and the 4 space diagonals (+-1, +-1, 10): T = diag(8, 8, 1200), |T|_F^2 = 1,440,128,
+    // (tr T)^2 = 1216^2 = 1,478,656.
+    const double r = 1440128.0 / 1478656;
+    CHECK_THAT(s.beta_k, WithinRel(10 * r * r, 1e-13));
+    CHECK_THAT(s.beta_k, WithinAbs(9.4857, 1e-4));
   }
   SECTION("a 1 x 2 x 4 brick lies between") {
     const auto s = shape_of(box(1, 2, 4));
@@ -117,6 +133,7 @@ TEST_CASE("non-orthogonal polyhedra: a regular tetrahedron and octahedron", "[bl
     CHECK_THAT(s.alpha, WithinRel(6 * std::sqrt(6.0) / 7.7, 1e-14));
     CHECK_THAT(s.beta, WithinAbs(0.25, 1e-14));
     CHECK(s.shape == ShapeClass::C);
+    CHECK(std::isnan(s.beta_k));  // no chord longer than the median: all are equal
   }
   SECTION("octahedron: beta 0 (two chords from a corner at right angles)") {
     // Vertices +-e_i: 12 edges sqrt 2, 3 diagonals 2; A = 8 (sqrt 3 / 4) 2 = 4 sqrt 3, V = 4/3.
@@ -128,6 +145,8 @@ TEST_CASE("non-orthogonal polyhedra: a regular tetrahedron and octahedron", "[bl
     CHECK_THAT(s.alpha, WithinRel(4 * std::sqrt(3.0) * mean / (7.7 * 4.0 / 3), 1e-14));
     CHECK_THAT(s.beta, WithinAbs(0, 1e-15));
     CHECK(s.shape == ShapeClass::C);
+    // Longer than the median sqrt 2: the 3 diagonals 2 e_i, T = 4 I: beta_k = 10/9.
+    CHECK_THAT(s.beta_k, WithinRel(10.0 / 9, 1e-14));
   }
   SECTION("a sheared block through slice-vertices' own geometry") {
     // x - z/2 in [0, 2], y in [0, 3], z in [0, 1]: its /geometry (vertices, face areas,
@@ -190,6 +209,10 @@ TEST_CASE("rotated, moved 1e6 m, rescaled and reordered: the same factors", "[bl
       CHECK_THAT(s.alpha, WithinRel(ref.alpha, tol));
       CHECK_THAT(s.beta, WithinAbs(ref.beta, tol));
       CHECK(s.shape == ref.shape);
+      if (std::isnan(ref.beta_k))
+        CHECK(std::isnan(s.beta_k));
+      else
+        CHECK_THAT(s.beta_k, WithinRel(ref.beta_k, tol));
     }
   }
 }

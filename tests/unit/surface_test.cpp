@@ -167,6 +167,42 @@ TEST_CASE("height fields: orientation, overlaps, cover, and the solid above", "[
              Contains("misses the domain's centre"));
 }
 
+TEST_CASE("crop_surface: the triangles over the plan, one sheet edge to edge", "[unit][surface]") {
+  // A fan about v = (3, 0.5), outside the plan [0, 1] x [0, 1]: t1 and t3 reach into it, t2
+  // between them does not. Kept alone, t1 and t3 would meet at v only: t2 comes back.
+  slice::TriangleMesh fan;
+  fan.vertices = {{3, 0.5, 1}, {0.5, 0.2, 1}, {2, 0.4, 1}, {2, 0.6, 1}, {0.5, 0.8, 1}};
+  fan.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}};
+  const slice::CroppedSurface all = slice::crop_surface(fan, {0, 0}, {1, 1});
+  CHECK(all.numbers == std::vector<std::int64_t>{1, 2, 3});
+  // Without t3, t2 is dropped, and the vertex only it used (3) with it.
+  slice::TriangleMesh two = fan;
+  two.triangles.pop_back();
+  const slice::CroppedSurface one = slice::crop_surface(two, {0, 0}, {1, 1});
+  CHECK(one.numbers == std::vector<std::int64_t>{1});
+  CHECK(one.mesh.vertices.size() == 3);
+  CHECK(one.mesh.triangles[0] == std::array<std::int64_t, 3>{0, 1, 2});
+  // A fold far from the plan is cropped away; messages name the file's triangle numbers.
+  slice::TriangleMesh far = square();
+  far.vertices.push_back({5.2, 0.1, 9});
+  far.vertices.push_back({5.9, 0.1, 9});
+  far.vertices.push_back({5.9, 0.8, 9});
+  far.vertices.push_back({5.1, 0.2, 8});
+  far.vertices.push_back({5.9, 0.3, 8});
+  far.vertices.push_back({5.5, 0.9, 8});
+  far.triangles.insert(far.triangles.begin(), {{4, 5, 6}, {7, 8, 9}});  // two sheets at x ~ 5.5
+  CHECK_THAT(test::error_of([&] { slice::check_height_field(far, kUnit, 1e-9, "s"); }),
+             Contains("triangles 1 and 2 overlap in plan"));
+  const slice::CroppedSurface near = slice::crop_surface(far, {-0.1, -0.1}, {1.1, 1.1});
+  CHECK(near.numbers == std::vector<std::int64_t>{3, 4});
+  CHECK_NOTHROW(slice::check_height_field(near.mesh, kUnit, 1e-9, "s", near.numbers));
+  // Within the plan the fold is still refused, by the file's numbers.
+  const slice::CroppedSurface wide = slice::crop_surface(far, {-0.1, -0.1}, {6, 1.1});
+  CHECK_THAT(
+      test::error_of([&] { slice::check_height_field(wide.mesh, kUnit, 1e-9, "s", wide.numbers); }),
+      Contains("triangles 1 and 2 overlap in plan"));
+}
+
 TEST_CASE("plan_hull: a box's plan, counter-clockwise", "[unit][surface]") {
   std::vector<Vec3> box;
   for (int k = 0; k < 8; ++k) box.emplace_back(k & 1 ? 4 : 1, k & 2 ? 3 : 2, k & 4 ? 7 : 0);

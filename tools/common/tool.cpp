@@ -173,10 +173,7 @@ slice::Progress Tool::progress() {
 slice::Provenance Tool::provenance(const std::string& input,
                                    const std::vector<std::string>& also) const {
   slice::Provenance p{name_, slice::version(), command_line_, input, slice::sha256_file(input)};
-  for (const std::string& file : also) {
-    p.input += "; " + file;
-    p.input_sha256 += "; " + slice::sha256_file(file);
-  }
+  for (const std::string& file : also) slice::add_input(p, file);
   return p;
 }
 

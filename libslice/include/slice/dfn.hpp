@@ -6,9 +6,12 @@
 //   sections BEGIN NAME ... END NAME: FORMAT (key = value: Format = Ascii, No_Fractures,
 //   No_TessFractures, No_Nodes, No_Properties, ...), PROPERTIES (PropK = (type) "name"), SETS
 //   (SetK = "name"), FRACTURE (per fracture a line "id nodes set prop1 ... propP", one line
-//   "k x y z" per node, a line "0 nx ny nz", the normal), TESSFRACTURE and ROCKBLOCK (read only
+//   "k x y z" per node, a line "0 nx ny nz", the normal), TESSFRACTURE (per fracture a line
+//   "id nodes faces set", one line "k x y z" per node, one line per triangle: five whole numbers,
+//   the face's number and its node indices, then any property values) and ROCKBLOCK (read only
 //   when empty).
 //   CSV: a header row, then one disc per row (docs/dfn.md names the columns).
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -27,7 +30,11 @@ struct DfnFracture {
   std::int64_t line = 0;    // where it starts in the file (1-based)
   std::size_t set = 0;      // index into DfnFile::sets
   std::vector<Vec3> nodes;  // FAB: the polygon's corners in global coordinates, in file order
-  bool disc = false;        // CSV: the fields below hold the joint, `nodes` is empty
+  // FAB TESSFRACTURE: `nodes` are the mesh's nodes, `faces` the first five whole numbers of each
+  // face line (docs/dfn.md: where the three node indices, 1-based, stand is read from them).
+  bool tessellated = false;
+  std::vector<std::array<std::int64_t, 5>> faces;
+  bool disc = false;  // CSV: the fields below hold the joint, `nodes` is empty
   Vec3 centre = Vec3::Zero();
   double dip_deg = 0, dip_direction_deg = 0;
   std::vector<Vec2> polygon_uv;  // counter-clockwise about centre
@@ -41,8 +48,8 @@ struct DfnFile {
 /// Reads a FAB file. Throws Error("<file>:<line>", what, fix) on anything it cannot read as
 /// written: a section without its END, counts that disagree with FORMAT, a number that is not
 /// finite, a node count the rest of the file cannot hold, a set id SETS does not declare (when
-/// SETS declares any), tessellated fractures or rock blocks (TESSFRACTURE, ROCKBLOCK not
-/// empty), a binary FAB.
+/// SETS declares any), a face line that is not five whole numbers and numbers, rock blocks
+/// (ROCKBLOCK not empty), a binary FAB.
 DfnFile read_fab(const std::filesystem::path& file);
 
 /// How a CSV disc becomes a polygon: `sides` corners (the row's `sides` column wins) about the

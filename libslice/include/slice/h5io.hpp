@@ -34,6 +34,11 @@ struct Provenance {
   std::string input_sha256;  // hash of the input file's content (hex)
 };
 
+/// Records a further input in a provenance, as slice-joints records the files a scene names
+/// (scene_files, scene.hpp): "; <file>" appended to `input`, "; <SHA-256 of its content>" to
+/// `input_sha256`. Throws Error if the file cannot be read.
+void add_input(Provenance& p, const std::filesystem::path& file);
+
 /// The root attributes of any rockslice file.
 struct FileHeader {
   std::string schema;

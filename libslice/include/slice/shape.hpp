@@ -13,8 +13,9 @@
 //                                as long as the median chord; the smallest squared cosine of
 //                                the angle between two of them; the harmonic mean of both ends.
 //                                0 .. 1, near 1 for a rod (elongation of the major axis).
-// Both are stated in jsidhu45/Modified-block-shape-classification, MBSCT.py; Kalenchuk's own
-// equations were not in the stored material, and their beta differs (docs/block-shape.md).
+// Both are stated in jsidhu45/Modified-block-shape-classification, MBSCT.py. Kalenchuk's own
+// beta (BlockShape::beta_k) is computed beside it, as UnBlocks-gen's paper states it
+// (docs/block-shape.md).
 #include <array>
 #include <cstddef>
 #include <span>
@@ -40,8 +41,13 @@ ShapeClass shape_class(double alpha, double beta);
 
 struct BlockShape {
   double alpha = 0;
-  double beta = 0;  // NaN when undefined (class none)
-  ShapeClass shape = ShapeClass::none;
+  double beta = 0;  // MBSCT's elongation index, 0 .. 1; NaN when undefined (class none)
+  ShapeClass shape = ShapeClass::none;  // from alpha and the MBSCT beta
+  // Kalenchuk's beta as UnBlocks-gen's paper states it (Rasmussen 2020, SoftwareX 12:100577,
+  // eq. 5): 10 [sum (a . b)^2 / sum |a|^2 |b|^2]^2 over all pairs of the chords a, b longer than
+  // the median chord, a = b included; 10/9 for a cube (or any isotropic set of long chords) up to
+  // 10 for a rod. NaN when no chord is longer than the median (a regular tetrahedron).
+  double beta_k = 0;
 };
 
 /// The shape of one convex polyhedron from its vertices (any frame: only differences count),

@@ -99,6 +99,23 @@ std::vector<Joint> generate_stochastic_set(JointSetSpec& spec, std::size_t index
                                            std::uint64_t scene_seed, const DomainBox& domain,
                                            std::int64_t max_joints, const std::string& where);
 
+/// The joints of stochastic set `spec` (density or p32, with a size) of a 2-D scene with a
+/// section (docs/2d.md, "Stochastic sets in a section"): its 3-D joints, of the 3-D orientation
+/// `trace` gives (dip_deg, dip_direction_deg), drawn as generate_stochastic_set draws them in
+/// the slab of the 3-D region whose section is the domain: the points within the bounding
+/// radius of the set's largest joint (set_enlargement) of the section plane, where every joint
+/// that can reach the plane has its centre (the generator's own growth of the box adds the
+/// joints that only reach into the slab). So the intensity is the set's own (density per unit
+/// volume, p32 area per unit volume of the slab). Each joint's trace in the section plane that
+/// reaches into the domain by more than its tolerance becomes a 2-D joint: the segment, of the
+/// trace's apparent dip. `domain` is the 2-D scene's (its slab of unit thickness in y). Fills
+/// spec's stream_seed, enlargement and candidates (the 3-D joints drawn). Throws Error(where,
+/// ...) as generate_stochastic_set does.
+std::vector<Joint> generate_section_set(JointSetSpec& spec, std::size_t index,
+                                        std::uint64_t scene_seed, const SectionPlane& section,
+                                        const SectionTrace& trace, const DomainBox& domain,
+                                        std::int64_t max_joints, const std::string& where);
+
 /// The upward unit normals of `count` planes drawn from the Fisher distribution about the mean
 /// pole of set `spec` (its dip, dip direction and fisher_kappa > 0), as a stochastic set draws
 /// them (two uniforms per plane), from the stream gsl_rng_mt19937 seeded by `stream_seed`. For

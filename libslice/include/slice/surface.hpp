@@ -48,6 +48,18 @@ TriangleMesh grid_surface(const HeightGrid& grid, const Vec2& lo, const Vec2& hi
 TriangleMesh read_surface(const std::filesystem::path& file, const Vec2& lo, const Vec2& hi,
                           double tol);
 
+/// The part of a surface that matters over the plan rectangle [lo, hi]: its triangles whose
+/// plan bounding box meets the rectangle, and (so that the part stays one sheet edge to edge)
+/// every triangle around a vertex where the kept triangles would otherwise meet at that vertex
+/// only. `numbers`: each kept triangle's number in `surface` (1-based), for messages. Vertices
+/// no kept triangle uses are dropped. Outside the rectangle nothing is checked: a fold or an
+/// overhang there is cropped away with its triangles.
+struct CroppedSurface {
+  TriangleMesh mesh;
+  std::vector<std::int64_t> numbers;
+};
+CroppedSurface crop_surface(const TriangleMesh& surface, const Vec2& lo, const Vec2& hi);
+
 /// The convex hull of the points in plan (x, y), counter-clockwise.
 std::vector<Vec2> plan_hull(std::span<const Vec3> points);
 
@@ -57,8 +69,10 @@ std::vector<Vec2> plan_hull(std::span<const Vec3> points);
 /// that overlap in plan by more than `tol` (an overhang or a fold: z is not a function of x and
 /// y), and an edge of the surface's border (a side of one triangle only) that runs inside
 /// `plan` by more than tol, or a surface that misses `plan` (a hole, a gap, or too small).
+/// `numbers`: the triangles' numbers in messages (crop_surface's), else their index + 1.
 TriangleMesh check_height_field(const TriangleMesh& surface, std::span<const Vec2> plan, double tol,
-                                const std::string& where);
+                                const std::string& where,
+                                std::span<const std::int64_t> numbers = {});
 
 /// The closed mesh (outward, as check_solid_mesh wants) of the rock above a checked surface
 /// (check_height_field) up to z = top, which must lie above it: the surface's triangles

@@ -15,6 +15,11 @@ namespace {
 
 constexpr double kAlphaScale = 7.7;  // MBSCT.py: alpha = (surf_area * avg_cod_lng) / (7.7 * vol)
 constexpr double kTie = 1e-9;        // relative to the longest chord
+// Kalenchuk's beta: a chord counts as longer than the median only by more than this, relative
+// to the longest chord. A chord equal to the median in exact arithmetic (a cube's face
+// diagonals) then stays out wherever the block is: 1e6 m from the origin a 1 mm block's chords
+// carry rounding of 1e-7 of its size, which tipped a cube's beta_k from 10/9 to 1.44 with 1e-9.
+constexpr double kLongTie = 1e-6;
 
 // The elongation index at vertex `end` of the longest chord: among the chords from `end` to the
 // other vertices at least as long as the median chord, the smallest squared cosine between two.
@@ -74,6 +79,30 @@ ShapeClass shape_class(double alpha, double beta) {
   return alpha <= 5 ? ShapeClass::PC : ShapeClass::P;
 }
 
+namespace {
+
+// Kalenchuk's beta as UnBlocks-gen states it (Rasmussen 2020, SoftwareX 12:100577, eq. 5):
+// 10 [sum (a . b)^2 / sum |a|^2 |b|^2]^2 over the pairs of chords a, b longer than the median
+// (by more than `tie`: kLongTie), a = b included. With T = sum a a^T over those chords the sums are
+// |T|_F^2 and (tr T)^2. NaN when no chord is longer than the median.
+double kalenchuk_beta(std::span<const Vec3> v, const std::vector<double>& len, double median,
+                      double tie) {
+  Eigen::Matrix3d t = Eigen::Matrix3d::Zero();
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    for (std::size_t j = i + 1; j < v.size(); ++j, ++k)
+      if (len[k] > median + tie) {
+        const Vec3 d = v[j] - v[i];
+        t += d * d.transpose();
+      }
+  const double trace = t.trace();
+  if (!(trace > 0)) return std::numeric_limits<double>::quiet_NaN();
+  const double ratio = t.squaredNorm() / (trace * trace);
+  return 10 * ratio * ratio;
+}
+
+}  // namespace
+
 BlockShape block_shape(std::span<const Vec3> v, double surface_area, double volume,
                        const std::string& where) {
   if (v.size() < 4)
@@ -120,6 +149,7 @@ BlockShape block_shape(std::span<const Vec3> v, double surface_area, double volu
       if (!std::isnan(b) && !(b >= s.beta)) s.beta = b;
     }
   s.shape = shape_class(s.alpha, s.beta);
+  s.beta_k = kalenchuk_beta(v, len, median, kLongTie * longest);
   return s;
 }
 

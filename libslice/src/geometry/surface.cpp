@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
@@ -290,6 +291,63 @@ TriangleMesh read_surface(const std::filesystem::path& file, const Vec2& lo, con
   }
 }
 
+CroppedSurface crop_surface(const TriangleMesh& surface, const Vec2& lo, const Vec2& hi) {
+  const std::size_t n = surface.triangles.size();
+  std::vector<char> keep(n, 0);
+  std::vector<std::vector<std::size_t>> around(surface.vertices.size());  // triangles of a vertex
+  for (std::size_t t = 0; t < n; ++t) {
+    Vec2 tlo = Vec2::Constant(INFINITY), thi = -tlo;
+    for (const std::int64_t v : surface.triangles[t]) {
+      const Vec3& x = surface.vertices[std::size_t(v)];
+      tlo = tlo.cwiseMin(Vec2(x.x(), x.y())), thi = thi.cwiseMax(Vec2(x.x(), x.y()));
+      around[std::size_t(v)].push_back(t);
+    }
+    keep[t] = !(tlo.x() > hi.x() || thi.x() < lo.x() || tlo.y() > hi.y() || thi.y() < lo.y());
+  }
+  // A vertex whose kept triangles are not one fan joined edge to edge (more than one kept run
+  // about it: more than two border edges of the kept part end there) takes all its triangles
+  // back; repeated until none is left (triangles are only added, so it ends).
+  for (bool again = true; again;) {
+    again = false;
+    for (std::size_t v = 0; v < around.size(); ++v) {
+      std::map<std::int64_t, int> edge_uses;  // the other end of each kept edge at v
+      bool any = false, all = true;
+      for (const std::size_t t : around[v]) {
+        all = all && keep[t];
+        if (!keep[t]) continue;
+        any = true;
+        for (const std::int64_t w : surface.triangles[t])
+          if (std::size_t(w) != v) ++edge_uses[w];
+      }
+      if (!any || all) continue;
+      int border = 0;
+      for (const auto& [w, uses] : edge_uses) border += uses == 1 ? 1 : 0;
+      if (border <= 2) continue;
+      for (const std::size_t t : around[v]) keep[t] = 1;
+      again = true;
+    }
+  }
+  // The vertices kept in their order, so that a surface kept whole is the same mesh.
+  CroppedSurface c;
+  std::vector<std::int64_t> index(surface.vertices.size(), -1);
+  for (std::size_t t = 0; t < n; ++t)
+    if (keep[t])
+      for (const std::int64_t v : surface.triangles[t]) index[std::size_t(v)] = 0;
+  for (std::size_t v = 0; v < index.size(); ++v)
+    if (index[v] == 0) {
+      index[v] = std::int64_t(c.mesh.vertices.size());
+      c.mesh.vertices.push_back(surface.vertices[v]);
+    }
+  for (std::size_t t = 0; t < n; ++t) {
+    if (!keep[t]) continue;
+    const auto& tri = surface.triangles[t];
+    c.mesh.triangles.push_back(
+        {index[std::size_t(tri[0])], index[std::size_t(tri[1])], index[std::size_t(tri[2])]});
+    c.numbers.push_back(std::int64_t(t + 1));
+  }
+  return c;
+}
+
 std::vector<Vec2> plan_hull(std::span<const Vec3> points) {
   std::vector<Vec2> p;
   for (const Vec3& x : points) p.emplace_back(x.x(), x.y());
@@ -330,7 +388,8 @@ Plane inner_side(const Vec2& a, const Vec2& b, double inset = 0) {
 Vec2 xy(const Vec3& x) { return {x.x(), x.y()}; }
 
 // Two triangles (counter-clockwise in plan) whose plan overlap is thicker than tol.
-void check_overlaps(const TriangleMesh& s, double tol, const std::string& where) {
+void check_overlaps(const TriangleMesh& s, double tol, const std::string& where,
+                    const std::function<std::string(std::size_t)>& number) {
   const std::size_t n = s.triangles.size();
   std::vector<Vec2> lo(n), hi(n);
   Vec2 all_lo = Vec2::Constant(INFINITY), all_hi = -all_lo;
@@ -389,8 +448,8 @@ void check_overlaps(const TriangleMesh& s, double tol, const std::string& where)
         // Thicker than tol: a sliver w wide and L long has area w L and perimeter 2 L.
         if (area > tol * perimeter / 2)
           throw Error(where,
-                      "triangles " + std::to_string(i + 1) + " and " + std::to_string(j + 1) +
-                          " overlap in plan near " + point(mean.x(), mean.y()) +
+                      "triangles " + number(i) + " and " + number(j) + " overlap in plan near " +
+                          point(mean.x(), mean.y()) +
                           ": z is not a function of x and y there (an overhang or a fold)",
                       kHeightFieldFix);
       }
@@ -456,7 +515,10 @@ void check_cover(const TriangleMesh& s, std::span<const Vec2> plan, double tol,
 }  // namespace
 
 TriangleMesh check_height_field(const TriangleMesh& surface, std::span<const Vec2> plan, double tol,
-                                const std::string& where) {
+                                const std::string& where, std::span<const std::int64_t> numbers) {
+  const auto number = [&](std::size_t t) {
+    return std::to_string(t < numbers.size() ? numbers[t] : std::int64_t(t + 1));
+  };
   TriangleMesh s = surface;
   Vec3 lo = Vec3::Constant(INFINITY), hi = -lo;
   for (const Vec3& x : s.vertices) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
@@ -468,16 +530,16 @@ TriangleMesh check_height_field(const TriangleMesh& surface, std::span<const Vec
     const Vec3 n = (b - a).cross(c - a);
     const Vec3 mean = (a + b + c) / 3;
     if (n.norm() <= 1e-12 * size * size)
-      throw Error(where, "triangle " + std::to_string(t + 1) + " has no area",
+      throw Error(where, "triangle " + number(t) + " has no area",
                   "remove the degenerate triangle");
     if (std::abs(n.z()) <= 1e-9 * n.norm())
       throw Error(where,
-                  "triangle " + std::to_string(t + 1) + " near " + point(mean.x(), mean.y()) +
+                  "triangle " + number(t) + " near " + point(mean.x(), mean.y()) +
                       " is vertical: z is not a function of x and y there",
                   kHeightFieldFix);
     if (n.z() < 0) std::swap(tri[1], tri[2]);  // counter-clockwise seen from above
   }
-  check_overlaps(s, tol, where);
+  check_overlaps(s, tol, where, number);
   check_cover(s, plan, tol, where);
   return s;
 }

@@ -128,10 +128,12 @@ std::string make_convex(std::vector<Vec2>& p, double tol) {
   return "";
 }
 
-// The joint of a FAB fracture: the plane that fits its nodes best (through their mean, normal
+// The plane of a FAB fracture's nodes: the plane that fits them best (through their mean, normal
 // the direction of least spread, as for a [[joints]] polygon), its nodes within `planarity` x
-// its radius (and at least the scene's tolerance) of it. "" or why not.
-std::string polygon_joint(const std::vector<Vec3>& xs, double tol, double planarity, Joint& j) {
+// its radius (and at least the scene's tolerance) of it; j.polygon_uv gets the nodes in its
+// frame, `ptol` that distance. "" or why not.
+std::string fit_plane(const std::vector<Vec3>& xs, double tol, double planarity, Joint& j,
+                      double& ptol) {
   Vec3 mean = Vec3::Zero();
   for (const auto& x : xs) mean += x;
   mean /= static_cast<double>(xs.size());
@@ -143,7 +145,7 @@ std::string polygon_joint(const std::vector<Vec3>& xs, double tol, double planar
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
   const Vec3 best = es.eigenvectors().col(0);
-  const double ptol = std::max(tol, planarity * radius);
+  ptol = std::max(tol, planarity * radius);
   for (std::size_t i = 0; i < xs.size(); ++i)
     if (const double off = std::abs(best.dot(xs[i] - mean)); off > ptol)
       return "is not planar: node " + std::to_string(i + 1) + " is " + fmt(off, 6) +
@@ -156,7 +158,83 @@ std::string polygon_joint(const std::vector<Vec3>& xs, double tol, double planar
   j.centre = mean;
   j.plane = {frame.n, frame.n.dot(mean)};
   for (const auto& x : xs) j.polygon_uv.push_back(frame.to_uv(mean, x));
+  return "";
+}
+
+// The joint of a FAB fracture: its nodes, in order, are a planar convex polygon.
+std::string polygon_joint(const std::vector<Vec3>& xs, double tol, double planarity, Joint& j) {
+  double ptol = 0;
+  if (std::string why = fit_plane(xs, tol, planarity, j, ptol); !why.empty()) return why;
   return make_convex(j.polygon_uv, ptol);  // the digits that bent it may also bend an edge
+}
+
+double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// The convex hull of points, counter-clockwise (Andrew's monotone chain).
+std::vector<Vec2> convex_hull(std::vector<Vec2> p) {
+  std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  std::vector<Vec2> h(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && cross2(h[k - 1] - h[k - 2], p[i] - h[k - 2]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && cross2(h[k - 1] - h[k - 2], p[i] - h[k - 2]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  h.resize(k > 1 ? k - 1 : k);
+  return h;
+}
+
+// The joint of a FAB tessellated fracture: planar as a polygon's nodes, its joint the convex
+// hull of its nodes, provided that its triangles tile that hull: their areas (all of one
+// orientation) add up to the hull's, within a band of `ptol` along its outline. A face line's
+// node indices are its values 2-4, or 3-5 when value 2 is 3 (docs/dfn.md): either layout that
+// tiles the hull is taken. "" or why not.
+std::string tessellated_joint(const DfnFracture& f, double tol, double planarity, Joint& j) {
+  double ptol = 0;
+  if (std::string why = fit_plane(f.nodes, tol, planarity, j, ptol); !why.empty()) return why;
+  const std::vector<Vec2> uv = std::move(j.polygon_uv);
+  j.polygon_uv = convex_hull(uv);
+  if (std::string why = make_convex(j.polygon_uv, ptol); !why.empty()) return why;
+  double hull = 0, perimeter = 0;
+  for (std::size_t i = 0; i < j.polygon_uv.size(); ++i) {
+    const Vec2 &a = j.polygon_uv[i], &b = j.polygon_uv[(i + 1) % j.polygon_uv.size()];
+    hull += cross2(a, b) / 2;
+    perimeter += (b - a).norm();
+  }
+  const auto n = static_cast<std::int64_t>(uv.size());
+  std::string found;
+  for (const std::size_t first : {std::size_t{1}, std::size_t{2}}) {
+    double sum = 0, sum_abs = 0;
+    bool indices = true;
+    for (const auto& face : f.faces) {
+      if (first == 2 && face[1] != 3) indices = false;
+      for (std::size_t c = first; c < first + 3; ++c)
+        indices = indices && face[c] >= 1 && face[c] <= n;
+      if (!indices) break;
+      const Vec2 &a = uv[std::size_t(face[first] - 1)], &b = uv[std::size_t(face[first + 1] - 1)],
+                 &c = uv[std::size_t(face[first + 2] - 1)];
+      const double area = cross2(b - a, c - a) / 2;
+      sum += area;
+      sum_abs += std::abs(area);
+    }
+    if (!indices) continue;
+    if (std::abs(sum_abs - hull) <= ptol * perimeter && sum_abs - std::abs(sum) <= ptol * perimeter)
+      return "";
+    found += std::string(found.empty() ? "" : "; ") + "with node indices in values " +
+             (first == 1 ? "2-4" : "3-5") + " its triangles cover " + fmt(sum_abs, 6) +
+             " (turning both ways: " + fmt(sum_abs - std::abs(sum), 3) + ")";
+  }
+  if (found.empty())
+    return "has face lines whose node indices (values 2-4, or 3-5 after a 3) are not all "
+           "within 1.." +
+           std::to_string(n);
+  return "is not one convex polygon: the convex hull of its nodes has the area " + fmt(hull, 6) +
+         ", but " + found + " (a non-convex or holed outline, or overlapping triangles)";
 }
 
 DfnFile read_file_of(const Context& cx, const Tbl& t, const toml::node& node,
@@ -238,6 +316,13 @@ DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, s
                 "fracture's radius, e.g. 1e-4")
           : kDefaultPlanarity;
 
+  // The file's sets, with their properties; each joint takes its set's.
+  std::vector<JointSetSpec> specs;
+  for (std::size_t s = 0; s < dfn.sets.size(); ++s) {
+    Joint like;
+    give(props[s], like);
+    specs.push_back(given_set(dfn.sets[s], like));
+  }
   for (const DfnFracture& f : dfn.fractures) {
     Joint j;
     if (f.disc) {
@@ -259,14 +344,20 @@ DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, s
                    fmt(reach, 3) + " from its centre, not a size between the tolerance " +
                    fmt(cx.tol(), 3) + " and a finite length",
                "check the radius and its unit against the domain's");
-    } else if (const std::string why = polygon_joint(f.nodes, cx.tol(), planarity, j);
+    } else if (const std::string why = f.tessellated
+                                           ? tessellated_joint(f, cx.tol(), planarity, j)
+                                           : polygon_joint(f.nodes, cx.tol(), planarity, j);
                !why.empty()) {
-      r.fail(node, in_file + ":" + std::to_string(f.line) + ": fracture " + f.id + " " + why,
-             "correct the fracture's nodes, or raise 'planarity' in " + t.ctx +
-                 " if they carry few digits");
+      r.fail(node,
+             in_file + ":" + std::to_string(f.line) + ": " +
+                 (f.tessellated ? "tessellated fracture " : "fracture ") + f.id + " " + why,
+             f.tessellated && why.rfind("is not planar", 0) != 0
+                 ? "split it into convex polygons (the FRACTURE section), whose joints rockslice "
+                   "cuts"
+                 : "correct the fracture's nodes, or raise 'planarity' in " + t.ctx +
+                       " if they carry few digits");
     }
-    give(props[f.set], j);
-    j.set = static_cast<std::int32_t>(first_set + f.set);
+    set_joint_properties(j, specs[f.set], static_cast<std::int32_t>(first_set + f.set));
     d.joints.push_back(std::move(j));
   }
   // The file's own order (as-given), or sorted within the entry by `order`.
@@ -285,9 +376,7 @@ DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, s
     if (!names.insert(dfn.sets[s]).second)
       r.fail(node, in_file + ": its set \"" + dfn.sets[s] + "\" has the name of another set",
              "rename one of them (in the file, or the other set's name)");
-    Joint like;
-    give(props[s], like);
-    d.sets.push_back(given_set(dfn.sets[s], like));
+    d.sets.push_back(specs[s]);
     d.set_places.push_back({props[s].stage, place.line, place.entry});
   }
   return d;

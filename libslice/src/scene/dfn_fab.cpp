@@ -95,7 +95,9 @@ class FabReader {
         read_sets();
       else if (name == "FRACTURE")
         read_fractures();
-      else if (name == "TESSFRACTURE" || name == "ROCKBLOCK")
+      else if (name == "TESSFRACTURE")
+        read_tess_fractures();
+      else if (name == "ROCKBLOCK")
         read_empty(name);
       else
         lines_.fail("unknown section BEGIN " + name,
@@ -155,14 +157,7 @@ class FabReader {
       if (k == "NO_FRACTURES") format_.fractures = count(key, value);
       if (k == "NO_NODES") format_.nodes = count(key, value);
       if (k == "NO_PROPERTIES") format_.properties = count(key, value);
-      if (k == "NO_TESSFRACTURES") {
-        format_.tess = count(key, value);
-        if (*format_.tess > 0)
-          lines_.fail("No_TessFractures = " + value +
-                          ": tessellated fractures (triangulated surfaces) are not read, as a "
-                          "joint is one planar convex polygon",
-                      "export the DFN's fractures as polygons (the FRACTURE section)");
-      }
+      if (k == "NO_TESSFRACTURES") format_.tess = count(key, value);
     });
   }
 
@@ -220,6 +215,63 @@ class FabReader {
     section("FRACTURE", [&] { read_fracture(); });
   }
 
+  // The id on the current fracture line, checked to be a whole number.
+  std::string fracture_id(std::string_view field) {
+    std::string id(field);
+    if (!dfn_text::whole(field))
+      lines_.fail("fracture id \"" + id + "\" is not a whole number", kFabFix);
+    return id;
+  }
+
+  // A node or face count on a fracture's first line: >= `least`, and no more lines (of at least
+  // `bytes` bytes each) than the rest of the file holds, refused before anything is allocated.
+  std::int64_t line_count(std::string_view field, const std::string& id, const char* what,
+                          std::int64_t least, std::uint64_t bytes) {
+    const auto n = dfn_text::whole(field);
+    if (!n || *n < least)
+      lines_.fail("fracture " + id + " has " + what + " count " + std::string(field) +
+                      "; it needs a whole number >= " + std::to_string(least),
+                  kFabFix);
+    if (std::uint64_t(*n) > lines_.bytes_left() / bytes)
+      lines_.fail(
+          "fracture " + id + " claims " + std::to_string(*n) + " " + what + "s, but the " +
+              std::to_string(lines_.bytes_left()) + " bytes left in the file hold at most " +
+              std::to_string(lines_.bytes_left() / bytes) + " " + what + " lines",
+          "correct the " + std::string(what) + " count (or check that the file is complete)");
+    return *n;
+  }
+
+  std::size_t fracture_set(std::string_view field, const std::string& id) {
+    const auto set = dfn_text::whole(field);
+    if (!set)
+      lines_.fail(
+          "fracture " + id + ": set id \"" + std::string(field) + "\" is not a whole number",
+          kFabFix);
+    return set_of(*set, id);
+  }
+
+  // The `n` node lines "k x y z" after a fracture's first line.
+  void read_nodes(DfnFracture& f, std::int64_t n) {
+    for (std::int64_t k = 0; k < n; ++k) {
+      const std::string what = "node " + std::to_string(k + 1) + " of fracture " + f.id;
+      if (!lines_.next())
+        lines_.fail_at_end("the file ends at " + what + " (of " + std::to_string(n) + ")",
+                           "check that the file is complete");
+      const auto v = lines_.fields();
+      if (v.size() != 4)
+        lines_.fail(what + " has " + std::to_string(v.size()) + " values; expected 4 (k x y z)" +
+                        (v.size() == 3 || (f.tessellated && v.size() >= 5)
+                             ? ": the fracture has fewer nodes than its count, " +
+                                   std::to_string(n) + ", says"
+                             : ""),
+                    "correct the node line or the fracture's node count");
+      lines_.number_at(v[0], "the index of " + what);
+      f.nodes.emplace_back(lines_.number_at(v[1], "x of " + what),
+                           lines_.number_at(v[2], "y of " + what),
+                           lines_.number_at(v[3], "z of " + what));
+    }
+  }
+
   void read_fracture() {
     const auto head = lines_.fields();
     const std::int64_t p = properties();
@@ -230,69 +282,87 @@ class FabReader {
                       " property values)",
                   "correct the line or No_Properties in FORMAT");
     DfnFracture f;
-    f.id = std::string(head[0]);
     f.line = lines_.number();
-    if (!dfn_text::whole(head[0]))
-      lines_.fail("fracture id \"" + f.id + "\" is not a whole number", kFabFix);
-    const auto n = dfn_text::whole(head[1]);
-    if (!n || *n < 3)
-      lines_.fail("fracture " + f.id + " has node count " + std::string(head[1]) +
-                      "; a polygon needs a whole number >= 3",
-                  kFabFix);
-    // Each node takes a line of at least 8 bytes ("1 0 0 0\n"): a count the rest of the file
-    // cannot hold is refused before anything is allocated for it.
-    if (std::uint64_t(*n) > lines_.bytes_left() / 8)
-      lines_.fail("fracture " + f.id + " claims " + std::to_string(*n) + " nodes, but the " +
-                      std::to_string(lines_.bytes_left()) +
-                      " bytes left in the file hold at most " +
-                      std::to_string(lines_.bytes_left() / 8) + " node lines",
-                  "correct the node count (or check that the file is complete)");
-    const auto set = dfn_text::whole(head[2]);
-    if (!set)
-      lines_.fail(
-          "fracture " + f.id + ": set id \"" + std::string(head[2]) + "\" is not a whole number",
-          kFabFix);
+    f.id = fracture_id(head[0]);
+    // Each node takes a line of at least 8 bytes ("1 0 0 0\n").
+    const std::int64_t n = line_count(head[1], f.id, "node", 3, 8);
+    const std::size_t set = fracture_set(head[2], f.id);
     for (std::size_t k = 3; k < head.size(); ++k)
       lines_.number_at(head[k], "property " + std::to_string(k - 2) + " of fracture " + f.id);
-    f.set = set_of(*set, f.id);
-    for (std::int64_t k = 0; k < *n; ++k) {
-      const std::string what = "node " + std::to_string(k + 1) + " of fracture " + f.id;
-      if (!lines_.next())
-        lines_.fail_at_end("the file ends at " + what + " (of " + std::to_string(*n) + ")",
-                           "check that the file is complete");
-      const auto v = lines_.fields();
-      if (v.size() != 4)
-        lines_.fail(what + " has " + std::to_string(v.size()) + " values; expected 4 (k x y z)" +
-                        (v.size() == 3 ? ": the fracture has fewer nodes than its count, " +
-                                             std::to_string(*n) + ", says"
-                                       : ""),
-                    "correct the node line or the fracture's node count");
-      lines_.number_at(v[0], "the index of " + what);
-      f.nodes.emplace_back(lines_.number_at(v[1], "x of " + what),
-                           lines_.number_at(v[2], "y of " + what),
-                           lines_.number_at(v[3], "z of " + what));
-    }
+    f.set = set;
+    read_nodes(f, n);
+    nodes_ += std::uint64_t(n);
     const std::string what = "the normal line of fracture " + f.id;
     if (!lines_.next())
       lines_.fail_at_end("the file ends before " + what, "check that the file is complete");
     const auto v = lines_.fields();
     if (v.size() != 4 || lines_.number_at(v[0], what) != 0)
       lines_.fail(what + " is \"" + std::string(lines_.text()) +
-                      "\"; expected \"0 nx ny nz\" after the fracture's " + std::to_string(*n) +
+                      "\"; expected \"0 nx ny nz\" after the fracture's " + std::to_string(n) +
                       " nodes",
                   "correct the fracture's node count, or add the normal line");
     for (std::size_t k = 1; k < 4; ++k) lines_.number_at(v[k], what);
-    nodes_ += std::uint64_t(*n);
     out_.fractures.push_back(std::move(f));
+  }
+
+  // A tessellated fracture: "id nodes faces set", its node lines, then a line per triangle whose
+  // first five values are whole numbers (the face's number and its three node indices, in one of
+  // the two layouts docs/dfn.md names) and the rest numbers (the face's property values).
+  void read_tess_fracture() {
+    const auto head = lines_.fields();
+    if (head.size() != 4)
+      lines_.fail("a tessellated fracture's first line has " + std::to_string(head.size()) +
+                      " values; expected 4 (id, node count, face count, set id)",
+                  "correct the line");
+    DfnFracture f;
+    f.tessellated = true;
+    f.line = lines_.number();
+    f.id = fracture_id(head[0]);
+    const std::int64_t n = line_count(head[1], f.id, "node", 3, 8);
+    const std::int64_t faces = line_count(head[2], f.id, "face", 1, 10);  // "1 1 2 3 0\n"
+    f.set = fracture_set(head[3], f.id);
+    read_nodes(f, n);
+    for (std::int64_t k = 0; k < faces; ++k) {
+      const std::string what = "face " + std::to_string(k + 1) + " of fracture " + f.id;
+      if (!lines_.next())
+        lines_.fail_at_end("the file ends at " + what + " (of " + std::to_string(faces) + ")",
+                           "check that the file is complete");
+      const auto v = lines_.fields();
+      if (v.size() < 5)
+        lines_.fail(what + " has " + std::to_string(v.size()) +
+                        " values; expected at least 5 (the face's number and its node indices, "
+                        "then its property values)",
+                    "correct the face line or the fracture's face count");
+      std::array<std::int64_t, 5> face{};
+      for (std::size_t c = 0; c < v.size(); ++c) {
+        lines_.number_at(v[c], "value " + std::to_string(c + 1) + " of " + what);
+        if (c >= 5) continue;
+        const auto w = dfn_text::whole(v[c]);
+        if (!w)
+          lines_.fail("value " + std::to_string(c + 1) + " of " + what + ", " + std::string(v[c]) +
+                          ", is not a whole number (a face's first five values are its number "
+                          "and node indices)",
+                      "correct the face line or the fracture's face count");
+        face[c] = *w;
+      }
+      f.faces.push_back(face);
+    }
+    tess_nodes_ += std::uint64_t(n);
+    ++tess_;
+    out_.fractures.push_back(std::move(f));
+  }
+
+  void read_tess_fractures() {
+    if (format_.line == 0)
+      lines_.fail("the TESSFRACTURE section comes before any FORMAT section",
+                  "a FAB file begins with BEGIN FORMAT ... END FORMAT");
+    section("TESSFRACTURE", [&] { read_tess_fracture(); });
   }
 
   void read_empty(const std::string& name) {
     section(name, [&] {
-      lines_.fail(name == "ROCKBLOCK"
-                      ? "rock blocks (ROCKBLOCK) are not read: rockslice makes the blocks"
-                      : "tessellated fractures (TESSFRACTURE) are not read, as a joint is one "
-                        "planar convex polygon",
-                  "export the DFN's fractures as polygons (the FRACTURE section) only");
+      lines_.fail("rock blocks (ROCKBLOCK) are not read: rockslice makes the blocks",
+                  "export the DFN's fractures (FRACTURE, TESSFRACTURE) only");
     });
   }
 
@@ -306,10 +376,19 @@ class FabReader {
                          ", but the file has " + std::to_string(found) + " " + what,
                      "correct " + std::string(key) + " (or check that the file is complete)");
     };
-    if (format_.fractures && std::uint64_t(*format_.fractures) != out_.fractures.size())
-      disagree("No_Fractures", *format_.fractures, out_.fractures.size(), "fractures");
-    if (format_.nodes && std::uint64_t(*format_.nodes) != nodes_)
-      disagree("No_Nodes", *format_.nodes, nodes_, "fracture nodes");
+    const std::uint64_t polygons = out_.fractures.size() - tess_;
+    if (format_.fractures && std::uint64_t(*format_.fractures) != polygons)
+      disagree("No_Fractures", *format_.fractures, polygons, "fractures in FRACTURE");
+    if (format_.tess && std::uint64_t(*format_.tess) != tess_)
+      disagree("No_TessFractures", *format_.tess, tess_, "tessellated fractures");
+    // No_Nodes counts FRACTURE's nodes; whether it counts TESSFRACTURE's too, no public source
+    // says: either count is accepted.
+    if (format_.nodes && std::uint64_t(*format_.nodes) != nodes_ &&
+        std::uint64_t(*format_.nodes) != nodes_ + tess_nodes_)
+      disagree("No_Nodes", *format_.nodes, nodes_,
+               "fracture nodes" + (tess_ > 0 ? " (" + std::to_string(nodes_ + tess_nodes_) +
+                                                   " with the tessellated fractures' nodes)"
+                                             : std::string()));
     if (format_.properties && declared_properties_ > 0 &&
         *format_.properties != declared_properties_)
       disagree("No_Properties", *format_.properties, std::uint64_t(declared_properties_),
@@ -326,7 +405,9 @@ class FabReader {
   std::int64_t sets_line_ = 0;
   std::int64_t declared_properties_ = 0;
   std::int64_t properties_line_ = 0;
-  std::uint64_t nodes_ = 0;
+  std::uint64_t nodes_ = 0;  // FRACTURE's
+  std::uint64_t tess_nodes_ = 0;
+  std::uint64_t tess_ = 0;
 };
 
 // 17 significant digits: enough for any double to read back as itself.

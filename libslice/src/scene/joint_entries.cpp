@@ -169,15 +169,9 @@ Joint read_joint_2d(const Context& cx, const Tbl& t, const Common& c, Joint j) {
   if ((ends[1] - ends[0]).norm() <= tol)
     r.fail(*seg, label + " has no length: its ends are the same point",
            "give two different ends, or leave 'segment' out for a persistent joint");
-  const JointFrame frame = plane_frame(c.dip, c.dip_direction);
-  std::vector<Vec2> uv;
-  std::vector<const toml::node*> where;
-  for (const Vec3& e : ends)
-    for (const double y : {-0.5, 0.5}) {
-      uv.push_back(frame.to_uv(j.centre, e + y * Vec3::UnitY()));
-      where.push_back(seg);
-    }
-  std::swap(uv[2], uv[3]);  // around the rectangle: a-, a+, b+, b-
+  std::vector<Vec2> uv =
+      segment_polygon(plane_frame(c.dip, c.dip_direction), j.centre, ends[0], ends[1]);
+  const std::vector<const toml::node*> where(uv.size(), seg);
   check_polygon(r, uv, where, *seg, label, tol);
   j.polygon_uv = std::move(uv);
   return j;
@@ -651,16 +645,28 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
   s.intensity = static_cast<SetIntensity>(which);
   const std::string_view ikey = kIntensityKeys[which];
   check_section_dip(cx, t, c);
-  if (cx.dimension == 2) {
+  // In a section a 3-D set may be stochastic (density or p32, with a size): its joints' traces.
+  const bool traced =
+      cx.section && (s.intensity == SetIntensity::density || s.intensity == SetIntensity::p32);
+  if (cx.dimension == 2 && !traced) {
     if (s.intensity != SetIntensity::spacing)
       r.fail(*t.find(ikey),
-             t.label(ikey) + ": a 2-D scene's sets are regular lines (spacing) for now" +
-                 (cx.section ? ", and a 3-D set is traced in a section only with spacing" : ""),
-             "give spacing = <distance between the lines>, or the joints one by one as "
-             "[[joints]] with segment = [[x1, z1], [x2, z2]]");
+             t.label(ikey) + ": a 2-D scene's sets are regular lines (spacing)" +
+                 (cx.section ? std::string(", and a 3-D set is traced in a section with spacing, "
+                                           "density or p32 (") +
+                                   std::string(ikey) +
+                                   (s.intensity == SetIntensity::count
+                                        ? " would depend on the thickness of the slab drawn)"
+                                        : " counts along a 3-D scanline)")
+                             : std::string(" unless the scene has a [section]")),
+             cx.section ? "give the set's intensity as density (joints per unit volume) or p32 "
+                          "(joint area per unit volume)"
+                        : "give spacing = <distance between the lines>, or the joints one by one "
+                          "as [[joints]] with segment = [[x1, z1], [x2, z2]]");
     if (const toml::node* n = t.find("fisher_kappa"))
-      r.fail(*n, t.label("fisher_kappa") + " is not available in a 2-D scene",
-             "remove it: a 2-D set's lines share one orientation");
+      r.fail(*n, t.label("fisher_kappa") + " is not available for a 2-D scene's regular set",
+             "remove it: a 2-D set's lines share one orientation (a stochastic 3-D set in a "
+             "[section] takes it)");
   }
 
   if (const toml::node* n = t.find("fisher_kappa")) {
@@ -682,9 +688,17 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
   }
 
   const toml::node& in = *t.find(ikey);
+  if (traced && !finite)
+    r.fail(in,
+           t.label(ikey) +
+               ": a stochastic 3-D set in a section needs a size: its joints are "
+               "discs or polygons, whose traces are segments",
+           "add size = { distribution = ..., ... }, or give spacing for persistent planes");
   read_stochastic_intensity(t, in, finite, s);
   read_joint_shape(t, finite, s);
-  check_expected_count(cx, t, in, ikey, s);
+  // A traced set draws in a slab of the 3-D region, not in the section's: the generator checks
+  // its count (generate_section_set).
+  if (!traced) check_expected_count(cx, t, in, ikey, s);
   return s;
 }
 

@@ -1,12 +1,17 @@
 // Sections of a 3-D scene (docs/2d.md, "Sections of a 3-D scene"): the [section] table of a 2-D
 // scene, and the trace of a 3-D plane orientation in it (apparent dip, spacing, offset).
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "scene_read.hpp"
 #include "slice/orientation.hpp"
 #include "slice/scene.hpp"
+#include "slice/stochastic.hpp"
+#include "slice/traces.hpp"
 
 namespace slice {
 
@@ -28,9 +33,97 @@ SectionTrace section_trace(const SectionPlane& section, double dip_deg, double d
   return t;
 }
 
+namespace {
+
+// The part of the segment a-b (y = 0) inside the 2-D domain (its planes with y-free normals; the
+// slab's +-y planes hold at y = 0) reaching more than tol into it: its length, 0 if none.
+double length_inside(const Vec3& a, const Vec3& b, const DomainBox& domain) {
+  double t0 = 0, t1 = 1;
+  for (const Plane& p : domain.planes) {
+    const double da = p.normal.dot(a) - (p.d - domain.tol),
+                 db = p.normal.dot(b) - (p.d - domain.tol);
+    if (da > 0 && db > 0) return 0;
+    if (da > 0) t0 = std::max(t0, da / (da - db));
+    if (db > 0) t1 = std::min(t1, da / (da - db));
+  }
+  return t1 > t0 ? (t1 - t0) * (b - a).norm() : 0;
+}
+
+}  // namespace
+
+std::vector<Joint> generate_section_set(JointSetSpec& spec, std::size_t index,
+                                        std::uint64_t scene_seed, const SectionPlane& section,
+                                        const SectionTrace& trace, const DomainBox& domain,
+                                        std::int64_t max_joints, const std::string& where) {
+  // The section's own frame (x along, y its normal, z up) is the global one turned about the
+  // vertical, so that a section point (x, z) is the point (x, 0, z) and orientations, Fisher
+  // scatter and in-plane rotations (measured from the horizontal strike) carry over unchanged.
+  const Vec3 n = normal_from_dip(trace.dip_deg, trace.dip_direction_deg);
+  const DipAndDirection local =
+      dip_from_normal(Vec3(n.dot(section.along), n.dot(section.normal), n.z()));
+  JointSetSpec s3 = spec;
+  s3.dip_deg = local.dip_deg;
+  s3.dip_direction_deg = local.dip_direction_deg;
+  const double reach = set_enlargement(s3);
+  SLICE_ASSERT(reach > 0);  // finite joints: the scene refuses a set without a size
+  DomainBox slab = domain;
+  for (Plane& p : slab.planes)
+    if (std::abs(p.normal.y()) == 1) p.d = reach;
+  slab.min.y() = -reach;
+  slab.max.y() = reach;
+  slab.volume = domain.volume * 2 * reach;  // domain.volume: the section's area x 1
+  const std::vector<Joint> drawn =
+      generate_stochastic_set(s3, index, scene_seed, slab, max_joints, where);
+  spec.stream_seed = s3.stream_seed;
+  spec.enlargement = s3.enlargement;
+  spec.candidates = s3.candidates;
+
+  // Each joint's trace on the plane y = 0, over the domain's bounding rectangle.
+  TraceMapping w;
+  w.centre = Vec3((domain.min.x() + domain.max.x()) / 2, 0, (domain.min.z() + domain.max.z()) / 2);
+  w.dip_deg = 90;
+  w.dip_direction_deg = 0;  // normal +y: u = +x, v = +z
+  w.width = domain.max.x() - domain.min.x() + 2 * domain.tol;
+  w.height = domain.max.z() - domain.min.z() + 2 * domain.tol;
+  const JointFrame wf = plane_frame(w.dip_deg, w.dip_direction_deg);
+  std::vector<Joint> out;
+  for (const Joint& j3 : drawn) {
+    const std::optional<Trace> t = trace_on(j3, w, domain.tol);
+    if (!t) continue;
+    Vec3 a = wf.to_global(w.centre, t->a), b = wf.to_global(w.centre, t->b);
+    a.y() = b.y() = 0;
+    if (!(length_inside(a, b, domain) > domain.tol)) continue;
+    Joint j;
+    const DipAndDirection dd =
+        dip_from_normal(Vec3(j3.plane.normal.x(), 0, j3.plane.normal.z()).normalized());
+    j.dip_deg = dd.dip_deg;
+    j.dip_direction_deg = dd.dip_direction_deg;
+    j.centre = (a + b) / 2;
+    // The normal from the stored angles, as readers of joints.h5 rebuild it.
+    const Vec3 m = scene_read::dip_normal(j.dip_deg, j.dip_direction_deg, 2);
+    j.plane = {m, m.dot(j.centre)};
+    j.polygon_uv =
+        scene_read::segment_polygon(plane_frame(j.dip_deg, j.dip_direction_deg), j.centre, a, b);
+    const std::vector<Vec2>& r = j.polygon_uv;  // counter-clockwise, as [[joints]] make it
+    if ((r[1] - r[0]).x() * (r[2] - r[1]).y() - (r[1] - r[0]).y() * (r[2] - r[1]).x() < 0)
+      std::reverse(j.polygon_uv.begin(), j.polygon_uv.end());
+    scene_read::set_joint_properties(j, spec, static_cast<std::int32_t>(index));
+    out.push_back(std::move(j));
+  }
+  return out;
+}
+
 }  // namespace slice
 
 namespace slice::scene_read {
+
+std::vector<Vec2> segment_polygon(const JointFrame& frame, const Vec3& centre, const Vec3& a,
+                                  const Vec3& b) {
+  // Around the rectangle: a-, a+, b+, b-.
+  return {
+      frame.to_uv(centre, a - 0.5 * Vec3::UnitY()), frame.to_uv(centre, a + 0.5 * Vec3::UnitY()),
+      frame.to_uv(centre, b + 0.5 * Vec3::UnitY()), frame.to_uv(centre, b - 0.5 * Vec3::UnitY())};
+}
 
 SectionPlane read_section_plane(const Context& cx, const toml::table& st) {
   const Reader& r = cx.r;

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "scene_common.hpp"
 #include "slice/error.hpp"
 #include "slice/orientation.hpp"
 
@@ -444,13 +445,7 @@ std::vector<Joint> generate_stochastic_set(JointSetSpec& spec, std::size_t index
     const Vec3 normal = normal_from_dip(j.dip_deg, j.dip_direction_deg);
     j.plane = {normal, normal.dot(c)};
     j.centre = c;
-    j.kind = spec.kind;
-    j.set = static_cast<std::int32_t>(index);
-    j.friction_angle_deg = spec.friction_angle_deg;
-    j.cohesion = spec.cohesion;
-    j.tension = spec.tension;
-    j.limits = spec.limits;
-    j.boundary_side = spec.boundary_side;
+    scene_read::set_joint_properties(j, spec, static_cast<std::int32_t>(index));
     j.polygon_uv = joint_polygon(spec, size, rotation);
     const double a = area_inside(j, domain);
     if (!(a > 0)) continue;

@@ -54,8 +54,14 @@ void read_surface_zone(const Context& cx, const Tbl& t, const toml::node& node, 
   const PolytopeInfo& dom = cx.domain_info.info;
   TriangleMesh up;
   try {
-    const TriangleMesh surface = read_surface(file, dom.min.head<2>(), dom.max.head<2>(), cx.tol());
-    up = check_height_field(surface, plan_hull(dom.vertices), cx.tol(), file.string());
+    const Vec2 lo = dom.min.head<2>(), hi = dom.max.head<2>();
+    // Only the triangles over the domain's plan (and a margin of 5 % of its diagonal) are
+    // checked and kept: a fold or an overhang farther out does not matter.
+    const Vec2 margin = Vec2::Constant(0.05 * (hi - lo).norm() + cx.tol());
+    const CroppedSurface part =
+        crop_surface(read_surface(file, lo, hi, cx.tol()), lo - margin, hi + margin);
+    up = check_height_field(part.mesh, plan_hull(dom.vertices), cx.tol(), file.string(),
+                            part.numbers);
   } catch (const Error& e) {  // its own fix: one per line
     r.fail(node, t.label("surface") + ": " + e.where() + ": " + e.problem(), e.fix());
   }
