@@ -293,7 +293,8 @@ class Subdivision {
   std::vector<std::size_t> candidates_;
   std::vector<std::uint8_t> mask_;
 
-  std::vector<Vec3> corners_;  // a joint's corners in a block's frame
+  std::vector<Face> child_faces_;  // early_limits' scratch
+  std::vector<Vec3> corners_;      // a joint's corners in a block's frame
   ClipScratch clip_;
 
   /// Whether geometry proves, without the cut LP, that joint `pj` does not cut block i
@@ -376,6 +377,14 @@ class Subdivision {
   /// Splits block i by the plane of joint j (block frame). False if undone.
   bool split(std::size_t i, std::size_t j, const Plane& plane, Referee& referee) {
     const Joint& joint = ctx_.js.joints[j];
+    // An exempt joint (limits = false, e.g. a construction joint outlining an excavation)
+    // keeps its cuts: its thin pieces cluster with their neighbours across it.
+    const bool limited = ctx_.limits && joint.limits;
+    std::array<double, 2> early{-1, -1};
+    if (limited && !early_limits(i, j, plane, referee, early)) {
+      ++splits_undone;
+      return false;
+    }
     Block below = blocks[i];  // n . x <= d
     Block above = blocks[i];  // -n . x <= -d
     below.faces.push_back({plane.normal, plane.d, std::int64_t(j)});
@@ -386,10 +395,8 @@ class Subdivision {
     if (!set_sphere(ctx_, solver, below, lps, ext_below, &extremes[i], &plane) ||
         !set_sphere(ctx_, solver, above, lps, ext_above, &extremes[i], &flipped))
       return false;
-    // An exempt joint (limits = false, e.g. a construction joint outlining an excavation)
-    // keeps its cuts: its thin pieces cluster with their neighbours across it.
-    if (ctx_.limits && joint.limits &&
-        (!within_limits(below, referee) || !within_limits(above, referee))) {
+    if (limited &&
+        (!within_limits(below, early[0], referee) || !within_limits(above, early[1], referee))) {
       ++splits_undone;
       return false;
     }
@@ -413,9 +420,38 @@ class Subdivision {
     return true;
   }
 
+  /// The size limit decided before the children exist, from their inscribed radii in the split
+  /// block's frame (with its faces, some of which the children drop): false if a child is
+  /// surely too thin. early[k] is child k's radius (below, above) where it surely passes, else
+  /// -1 (within_limits decides on the child). Only with the native backend, and only outside
+  /// twice the band in which limit_ball decides again exactly (plus 1e-7 of the limit): there
+  /// the child's own LP, a few rounding errors away, decides the same.
+  bool early_limits(std::size_t i, std::size_t j, const Plane& plane, Referee& referee,
+                    std::array<double, 2>& early) {
+    const double min_d = ctx_.js.options.min_inscribed_diameter;
+    if (ctx_.opt.backend != LpBackend::native || min_d <= 0) return true;
+    const double margin = 2 * referee.limit_band(min_d) + 1e-7 * min_d;
+    for (std::size_t k = 0; k < 2; ++k) {
+      const double sign = k == 0 ? 1.0 : -1.0;
+      child_faces_ = blocks[i].faces;
+      child_faces_.push_back({sign * plane.normal, sign * plane.d, std::int64_t(j)});
+      const ChebyshevBall c = chebyshev_ball(referee.solver(), child_faces_, ctx_.tol);
+      ++lps.chebyshev;
+      if (c.status != LpStatus::optimal) continue;  // the child's own LP decides
+      if (2 * c.radius < min_d - margin) return false;
+      if (2 * c.radius > min_d + margin) early[k] = c.radius;
+    }
+    return true;
+  }
+
   /// Size and shape limits (eq. 18): inscribed diameter and bounding / inscribed radius.
-  bool within_limits(Block& b, Referee& referee) {
+  /// `early`: the child's radius from early_limits, which passed the size limit, or -1. With it,
+  /// the shape limit too is decided without an LP where R / r is clear of it (by 1e-6).
+  bool within_limits(Block& b, double early, Referee& referee) {
     const auto& o = ctx_.js.options;
+    if (early >= 0 &&
+        (o.max_aspect_ratio <= 0 || b.bsphere[3] < o.max_aspect_ratio * early * (1 - 1e-6)))
+      return true;
     const ChebyshevBall c =
         referee.limit_ball(b.faces, o.min_inscribed_diameter, o.max_aspect_ratio, b.bsphere[3]);
     ++lps.chebyshev;
