@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <exception>
 #include <limits>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -404,8 +405,16 @@ std::vector<Plane> polygon_edges(const Joint& joint) {
   return edges;
 }
 
-/// polygon_edges of every polygon joint, by joint number (none for a persistent one).
-using JointEdges = std::vector<std::vector<Plane>>;
+/// polygon_edges of every polygon joint, in one array: joint j's are [offset[j], offset[j + 1])
+/// (none for a persistent one). Blocks meet their joints in no order: the few bytes a face
+/// needs are read here rather than from the joint system's records.
+struct JointEdges {
+  std::vector<std::size_t> offset{0};
+  std::vector<Plane> planes;
+  std::span<const Plane> of(std::size_t j) const {
+    return {planes.data() + offset[j], offset[j + 1] - offset[j]};
+  }
+};
 
 BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& tol,
                                 std::size_t id, const JointEdges* joint_edges);
@@ -516,11 +525,14 @@ BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tol
 
     // Part of the face inside its joint's polygon, in the face's plane (block frame).
     const std::int64_t j = b.faces[f].joint;
-    if (j >= 0 && std::size_t(j) < js.joints.size() && !js.joints[std::size_t(j)].persistent()) {
-      std::vector<Plane> own;
-      const std::vector<Plane>& edges = joint_edges
-                                            ? (*joint_edges)[std::size_t(j)]
-                                            : (own = polygon_edges(js.joints[std::size_t(j)]), own);
+    if (j < 0 || std::size_t(j) >= js.joints.size()) continue;
+    std::vector<Plane> own;
+    std::span<const Plane> edges;
+    if (joint_edges)
+      edges = joint_edges->of(std::size_t(j));
+    else if (!js.joints[std::size_t(j)].persistent())
+      edges = own = polygon_edges(js.joints[std::size_t(j)]);
+    if (!edges.empty()) {
       const Vec3 o = b.origin + centre;
       std::vector<Vec3> part;
       for (const std::int64_t v : loop) part.push_back(local[std::size_t(v)]);
@@ -593,11 +605,12 @@ GeometryStats compute_geometry(const BlockSystem& bs, const GeometrySink& sink,
   const std::size_t n = bs.blocks.size();
   GeometryStats st;
   JointEdges joint_edges;
-  if (bs.joints.dimension != 2) {
-    joint_edges.resize(bs.joints.joints.size());
-    for (std::size_t j = 0; j < joint_edges.size(); ++j)
-      if (!bs.joints.joints[j].persistent()) joint_edges[j] = polygon_edges(bs.joints.joints[j]);
-  }
+  if (bs.joints.dimension != 2)
+    for (const Joint& joint : bs.joints.joints) {
+      if (!joint.persistent())
+        for (const Plane& e : polygon_edges(joint)) joint_edges.planes.push_back(e);
+      joint_edges.offset.push_back(joint_edges.planes.size());
+    }
   // Blocks are independent: chunks of them are computed concurrently (oneTBB), a run of chunks
   // at a time, while the run before is gathered in block order and handed to the sink. So the
   // result is the same for every thread count and at most two runs are held here. The first error
