@@ -534,10 +534,14 @@ BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tol
       edges = own = polygon_edges(js.joints[std::size_t(j)]);
     if (!edges.empty()) {
       const Vec3 o = b.origin + centre;
-      std::vector<Vec3> part;
+      std::vector<Vec3> part, clipped;
+      part.reserve(2 * loop.size() + 8);
+      clipped.reserve(2 * loop.size() + 8);
       for (const std::int64_t v : loop) part.push_back(local[std::size_t(v)]);
-      for (std::size_t k = 0; k < edges.size() && !part.empty(); ++k)
-        part = clip_polygon(part, to_local(edges[k], o));
+      for (std::size_t k = 0; k < edges.size() && !part.empty(); ++k) {
+        clip_polygon(part, to_local(edges[k], o), clipped);
+        part.swap(clipped);
+      }
       const double inside = part.size() < 3 ? 0 : b.faces[f].normal.dot(newell_normal(part)) / 2;
       g.face_joint_fraction[f] = std::clamp(inside / area, 0.0, 1.0);
     }
