@@ -49,6 +49,9 @@ class Referee {
   /// `min_diameter` or R / r within the band of `max_aspect` (R: the bounding radius).
   ChebyshevBall limit_ball(std::span<const Face> faces, double min_diameter, double max_aspect,
                            double bounding_radius);
+  /// The band about a limit (a diameter, or R / r times r) within which limit_ball decides
+  /// again exactly; 0 with the exact backend, which decides nothing again.
+  double limit_band(double limit) const;
 
  private:
   struct Impl;

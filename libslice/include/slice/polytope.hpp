@@ -40,5 +40,7 @@ Vec3 newell_normal(const std::vector<Vec3>& polygon);
 /// The convex polygon `polygon` clipped by the half-space `h` (normal . x <= d); vertices in
 /// order. Sutherland-Hodgman; points on the plane are kept.
 std::vector<Vec3> clip_polygon(const std::vector<Vec3>& polygon, const Plane& h);
+/// The same into `out` (cleared first; not `polygon` itself), reusing its memory.
+void clip_polygon(const std::vector<Vec3>& polygon, const Plane& h, std::vector<Vec3>& out);
 
 }  // namespace slice

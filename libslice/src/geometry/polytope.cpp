@@ -166,6 +166,12 @@ Vec3 newell_normal(const std::vector<Vec3>& polygon) {
 
 std::vector<Vec3> clip_polygon(const std::vector<Vec3>& polygon, const Plane& h) {
   std::vector<Vec3> out;
+  clip_polygon(polygon, h, out);
+  return out;
+}
+
+void clip_polygon(const std::vector<Vec3>& polygon, const Plane& h, std::vector<Vec3>& out) {
+  out.clear();
   const std::size_t n = polygon.size();
   for (std::size_t k = 0; k < n; ++k) {
     const Vec3& a = polygon[k];
@@ -174,7 +180,6 @@ std::vector<Vec3> clip_polygon(const std::vector<Vec3>& polygon, const Plane& h)
     if (da <= 0) out.push_back(a);
     if ((da < 0 && db > 0) || (da > 0 && db < 0)) out.push_back(a + (b - a) * (da / (da - db)));
   }
-  return out;
 }
 
 }  // namespace slice

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <exception>
 #include <limits>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -389,9 +390,49 @@ MassProperties mass_properties(const std::vector<Vec3>& vertices,
   return mp;
 }
 
+namespace {
+
+/// A polygon joint's edges as outward in-plane half-planes (global frame).
+std::vector<Plane> polygon_edges(const Joint& joint) {
+  const std::vector<Vec3> poly = joint_polygon(joint);
+  const Vec3& n = joint.plane.normal;
+  std::vector<Plane> edges;
+  edges.reserve(poly.size());
+  for (std::size_t k = 0; k < poly.size(); ++k) {
+    const Vec3 m = (poly[(k + 1) % poly.size()] - poly[k]).cross(n).normalized();
+    edges.push_back({m, m.dot(poly[k])});
+  }
+  return edges;
+}
+
+/// polygon_edges of every polygon joint, in one array: joint j's are [offset[j], offset[j + 1])
+/// (none for a persistent one). Blocks meet their joints in no order: the few bytes a face
+/// needs are read here rather than from the joint system's records.
+struct JointEdges {
+  std::vector<std::size_t> offset{0};
+  std::vector<Plane> planes;
+  std::span<const Plane> of(std::size_t j) const {
+    return {planes.data() + offset[j], offset[j + 1] - offset[j]};
+  }
+};
+
+BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& tol,
+                                std::size_t id, const JointEdges* joint_edges);
+
+}  // namespace
+
 BlockGeometry block_geometry(const Block& b, const JointSystem& js, const Tolerances& tol,
                              std::size_t id) {
   if (js.dimension == 2) return block_geometry_2d(b, js, tol, id);
+  return block_geometry_3d(b, js, tol, id, nullptr);
+}
+
+namespace {
+
+/// block_geometry of a 3-D block, with the polygon joints' edges made once for all blocks
+/// (`joint_edges`) or, without them, for each face that needs them.
+BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& tol,
+                                std::size_t id, const JointEdges* joint_edges) {
   const std::size_t nf = b.faces.size();
   if (nf < 4)
     throw Error(block_name(id),
@@ -484,15 +525,22 @@ BlockGeometry block_geometry(const Block& b, const JointSystem& js, const Tolera
 
     // Part of the face inside its joint's polygon, in the face's plane (block frame).
     const std::int64_t j = b.faces[f].joint;
-    if (j >= 0 && std::size_t(j) < js.joints.size() && !js.joints[std::size_t(j)].persistent()) {
-      const std::vector<Vec3> poly = joint_polygon(js.joints[std::size_t(j)]);
+    if (j < 0 || std::size_t(j) >= js.joints.size()) continue;
+    std::vector<Plane> own;
+    std::span<const Plane> edges;
+    if (joint_edges)
+      edges = joint_edges->of(std::size_t(j));
+    else if (!js.joints[std::size_t(j)].persistent())
+      edges = own = polygon_edges(js.joints[std::size_t(j)]);
+    if (!edges.empty()) {
       const Vec3 o = b.origin + centre;
-      const Vec3& n = js.joints[std::size_t(j)].plane.normal;
-      std::vector<Vec3> part;
+      std::vector<Vec3> part, clipped;
+      part.reserve(2 * loop.size() + 8);
+      clipped.reserve(2 * loop.size() + 8);
       for (const std::int64_t v : loop) part.push_back(local[std::size_t(v)]);
-      for (std::size_t k = 0; k < poly.size() && !part.empty(); ++k) {
-        const Vec3 m = (poly[(k + 1) % poly.size()] - poly[k]).cross(n).normalized();
-        part = clip_polygon(part, to_local({m, m.dot(poly[k])}, o));
+      for (std::size_t k = 0; k < edges.size() && !part.empty(); ++k) {
+        clip_polygon(part, to_local(edges[k], o), clipped);
+        part.swap(clipped);
       }
       const double inside = part.size() < 3 ? 0 : b.faces[f].normal.dot(newell_normal(part)) / 2;
       g.face_joint_fraction[f] = std::clamp(inside / area, 0.0, 1.0);
@@ -508,8 +556,6 @@ BlockGeometry block_geometry(const Block& b, const JointSystem& js, const Tolera
   for (const Vec3& x : local) g.vertices.push_back(b.origin + centre + x);
   return g;
 }
-
-namespace {
 
 /// Appends block i's geometry to geo (block-local vertex numbers, as the file stores them).
 void append(Geometry& geo, const BlockGeometry& g, GeometryStats& st) {
@@ -562,6 +608,13 @@ GeometryStats compute_geometry(const BlockSystem& bs, const GeometrySink& sink,
                                                 bs.joints.dimension);
   const std::size_t n = bs.blocks.size();
   GeometryStats st;
+  JointEdges joint_edges;
+  if (bs.joints.dimension != 2)
+    for (const Joint& joint : bs.joints.joints) {
+      if (!joint.persistent())
+        for (const Plane& e : polygon_edges(joint)) joint_edges.planes.push_back(e);
+      joint_edges.offset.push_back(joint_edges.planes.size());
+    }
   // Blocks are independent: chunks of them are computed concurrently (oneTBB), a run of chunks
   // at a time, while the run before is gathered in block order and handed to the sink. So the
   // result is the same for every thread count and at most two runs are held here. The first error
@@ -586,7 +639,11 @@ GeometryStats compute_geometry(const BlockSystem& bs, const GeometrySink& sink,
       const std::size_t lo = (w0 + c) * kChunk, hi = std::min(n, lo + kChunk);
       try {
         for (std::size_t i = lo; i < hi; ++i)
-          append(wave.parts[c], block_geometry(bs.blocks[i], bs.joints, tol, i), wave.stats[c]);
+          append(wave.parts[c],
+                 bs.joints.dimension == 2
+                     ? block_geometry(bs.blocks[i], bs.joints, tol, i)
+                     : block_geometry_3d(bs.blocks[i], bs.joints, tol, i, &joint_edges),
+                 wave.stats[c]);
       } catch (...) {
         wave.failure[c] = std::current_exception();
       }

@@ -111,6 +111,11 @@ FaceRedundancy Referee::redundancy(std::span<const Face> faces, std::size_t inde
   return e;
 }
 
+double Referee::limit_band(double limit) const {
+  const Impl& m = *impl_;
+  return m.recheck ? m.relative_band * limit + m.cut_band : 0.0;
+}
+
 ChebyshevBall Referee::limit_ball(std::span<const Face> faces, double min_diameter,
                                   double max_aspect, double bounding_radius) {
   Impl& m = *impl_;

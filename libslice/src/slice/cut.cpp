@@ -28,6 +28,7 @@
 
 #include "../threads.hpp"
 #include "bodies.hpp"
+#include "reach.hpp"
 #include "slice/cut_reject.hpp"
 #include "slice/decide.hpp"
 #include "slice/error.hpp"
@@ -43,37 +44,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-/// A joint prepared for cutting: its polygon in global coordinates and its bounding sphere.
-struct PreparedJoint {
-  Plane plane;                // global
-  std::vector<Plane> edges;   // polygon edges as in-plane half-planes (global), empty: persistent
-  std::vector<Vec3> corners;  // the polygon's corners (global), counter-clockwise about n
-  Vec3 centre = Vec3::Zero();
-  double radius = 0;                          // polygon's bounding sphere about centre
-  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // polygon's bounding box
-};
-
-PreparedJoint prepare(const Joint& j) {
-  PreparedJoint p;
-  p.plane = j.plane;
-  p.centre = j.centre;
-  if (j.persistent()) return p;
-  p.corners = joint_polygon(j);
-  const std::vector<Vec3>& v = p.corners;
-  for (const Vec2& uv : j.polygon_uv) p.radius = std::max(p.radius, uv.norm());
-  p.lo = p.hi = v.front();
-  for (std::size_t k = 0; k < v.size(); ++k) {
-    const Vec3& a = v[k];
-    const Vec3& b = v[(k + 1) % v.size()];
-    // Counter-clockwise about n: the outward in-plane normal of edge a -> b is (b - a) x n.
-    const Vec3 m = (b - a).cross(j.plane.normal).normalized();
-    p.edges.push_back({m, m.dot(a)});
-    p.lo = p.lo.cwiseMin(a);
-    p.hi = p.hi.cwiseMax(a);
-  }
-  return p;
 }
 
 /// Moves a block's origin by `shift` (block frame): faces keep their planes.
@@ -138,21 +108,18 @@ struct CutContext {
   bool limits = false;
   /// The blocks made so far by all tasks together (for max_blocks).
   std::atomic<std::int64_t>* total = nullptr;
+  /// The joints, prepared (by number).
+  const std::vector<PreparedJoint>* prepared = nullptr;
 };
+
+/// A subdivision of up to this many blocks tests a joint against every block's sphere; a larger
+/// one looks them up in a grid first.
+constexpr std::size_t kScanMax = 2048;
 
 std::string max_blocks_fix() {
   return "raise max_blocks ([options] max_blocks in the scene, or slice-cut --max-blocks) if "
          "the machine has the memory (about 1.4 kB a block at slice-cut's peak), or cut less: "
          "a larger spacing, fewer joints, a smaller domain";
-}
-
-/// Could the joint reach block sphere (c, r)? Spheres only (eq. 17 and Fig. 18): conservative.
-bool may_reach(const PreparedJoint& pj, const Eigen::Vector4d& sphere, double tol) {
-  const Vec3 c = sphere.head<3>();
-  const double r = sphere[3];
-  if (std::abs(pj.plane.distance(c)) >= r + tol) return false;
-  if (!pj.edges.empty() && (c - pj.centre).norm() >= r + pj.radius + tol) return false;
-  return true;
 }
 
 /// Where a block reaches its six extremes (eq. 17), in its frame: x[2k] maximises coordinate k,
@@ -170,15 +137,8 @@ class Subdivision {
               const Vec3& lo, const Vec3& hi)
       : blocks(std::move(roots)), extremes(std::move(root_extremes)), ctx_(ctx), lo_(lo), hi_(hi) {
     SLICE_ASSERT(extremes.size() == blocks.size());
-    if (ctx_.opt.use_index) rebuild_grid();
-  }
-
-  /// Visits the blocks the joint may reach (all of them without the index).
-  template <typename Visit>
-  void visit_reached(const PreparedJoint& pj, std::size_t j, Visit&& visit) {
-    find_candidates(j, pj);
-    for (const std::size_t i : candidates_)
-      if (!ctx_.opt.use_index || may_reach(pj, blocks[i].bsphere, ctx_.tol.cut)) visit(i);
+    if (ctx_.opt.use_index)
+      for (const Block& b : blocks) spheres_.push_back(b.bsphere);
   }
 
   /// The box this subdivision's blocks lie in.
@@ -189,8 +149,11 @@ class Subdivision {
   void release_index() {
     std::vector<Extremes>().swap(extremes);  // no split is left to come
     grid_ = SphereGrid();
+    grid_built_for_ = 0;
+    spheres_ = SphereList();
     std::vector<std::uint32_t>().swap(stamp_);
     std::vector<std::size_t>().swap(candidates_);
+    std::vector<std::uint8_t>().swap(mask_);
     std::vector<Vec3>().swap(corners_);
     clip_ = ClipScratch();
   }
@@ -276,14 +239,13 @@ class Subdivision {
   /// Cuts every block this joint may reach. The referee is the calling thread's.
   void cut_by(std::size_t j, Referee& referee) {
     const Joint& joint = ctx_.js.joints[j];
-    const PreparedJoint pj = prepare(joint);
+    const PreparedJoint& pj = (*ctx_.prepared)[j];
     find_candidates(j, pj);
     std::size_t cut = 0;
     std::vector<Plane> edges_local;
     for (const std::size_t i : candidates_) {
       Block& b = blocks[i];
       if (b.flags & kBoundary) continue;  // boundary blocks are never cut again
-      if (ctx_.opt.use_index && !may_reach(pj, b.bsphere, ctx_.tol.cut)) continue;
       const Plane plane = to_local(pj.plane, b.origin);
       ++tested;
       const CutReject settled = reject(pj, i, plane);
@@ -319,18 +281,20 @@ class Subdivision {
           b.flags |= kBoundary;
       }
     }
-    if (ctx_.opt.use_index && blocks.size() >= 2 * grid_built_for_) rebuild_grid();
   }
 
  private:
   const CutContext& ctx_;
-  Vec3 lo_, hi_;  // a box holding every block of this subdivision
-  SphereGrid grid_;
+  Vec3 lo_, hi_;        // a box holding every block of this subdivision
+  SphereList spheres_;  // the blocks' spheres (with the index)
+  SphereGrid grid_;     // over them, once there are more than kScanMax blocks
   std::size_t grid_built_for_ = 0;
   std::vector<std::uint32_t> stamp_;  // last joint (+1) that visited a block in the grid
   std::vector<std::size_t> candidates_;
+  std::vector<std::uint8_t> mask_;
 
-  std::vector<Vec3> corners_;  // a joint's corners in a block's frame
+  std::vector<Face> child_faces_;  // early_limits' scratch
+  std::vector<Vec3> corners_;      // a joint's corners in a block's frame
   ClipScratch clip_;
 
   /// Whether geometry proves, without the cut LP, that joint `pj` does not cut block i
@@ -362,21 +326,28 @@ class Subdivision {
   }
 
   void rebuild_grid() {
-    // The finest level has about two cells per block, at most 2^18 cells; rebuilt (one entry
-    // per block) as the blocks multiply.
+    // Only for a subdivision of more than kScanMax blocks: one task (CutOptions::tasks = 0) or
+    // large ones. The finest level has about two cells per block, at most 2^18 cells; rebuilt (one
+    // entry per block) as the blocks multiply.
     const std::size_t cells = std::clamp<std::size_t>(blocks.size() * 2, 64, std::size_t(1) << 18);
     grid_.reset(lo_, hi_, cells);
     for (std::size_t i = 0; i < blocks.size(); ++i) grid_.insert(i, blocks[i].bsphere);
     grid_built_for_ = blocks.size();
   }
 
-  /// The blocks joint j may reach, in increasing index order.
+  /// The blocks joint j may reach (may_reach; all of them without the index), in increasing
+  /// index order.
   void find_candidates(std::size_t j, const PreparedJoint& pj) {
     candidates_.clear();
     if (!ctx_.opt.use_index) {
       for (std::size_t i = 0; i < blocks.size(); ++i) candidates_.push_back(i);
       return;
     }
+    if (blocks.size() <= kScanMax) {
+      spheres_.reached(pj, ctx_.tol.cut, candidates_, mask_);
+      return;
+    }
+    if (blocks.size() >= 2 * grid_built_for_) rebuild_grid();
     if (stamp_.size() < blocks.size()) stamp_.resize(blocks.size(), 0);
     const auto visit = [&](std::size_t i) {
       if (stamp_[i] == j + 1) return;
@@ -388,6 +359,8 @@ class Subdivision {
     else
       grid_.visit_box(pj.lo, pj.hi, visit);
     std::sort(candidates_.begin(), candidates_.end());
+    std::erase_if(candidates_,
+                  [&](std::size_t i) { return !may_reach(pj, blocks[i].bsphere, ctx_.tol.cut); });
   }
 
   /// A block the plane does not cut lies on one side of it: its Chebyshev centre tells which.
@@ -404,6 +377,14 @@ class Subdivision {
   /// Splits block i by the plane of joint j (block frame). False if undone.
   bool split(std::size_t i, std::size_t j, const Plane& plane, Referee& referee) {
     const Joint& joint = ctx_.js.joints[j];
+    // An exempt joint (limits = false, e.g. a construction joint outlining an excavation)
+    // keeps its cuts: its thin pieces cluster with their neighbours across it.
+    const bool limited = ctx_.limits && joint.limits;
+    std::array<double, 2> early{-1, -1};
+    if (limited && !early_limits(i, j, plane, referee, early)) {
+      ++splits_undone;
+      return false;
+    }
     Block below = blocks[i];  // n . x <= d
     Block above = blocks[i];  // -n . x <= -d
     below.faces.push_back({plane.normal, plane.d, std::int64_t(j)});
@@ -414,10 +395,8 @@ class Subdivision {
     if (!set_sphere(ctx_, solver, below, lps, ext_below, &extremes[i], &plane) ||
         !set_sphere(ctx_, solver, above, lps, ext_above, &extremes[i], &flipped))
       return false;
-    // An exempt joint (limits = false, e.g. a construction joint outlining an excavation)
-    // keeps its cuts: its thin pieces cluster with their neighbours across it.
-    if (ctx_.limits && joint.limits &&
-        (!within_limits(below, referee) || !within_limits(above, referee))) {
+    if (limited &&
+        (!within_limits(below, early[0], referee) || !within_limits(above, early[1], referee))) {
       ++splits_undone;
       return false;
     }
@@ -431,15 +410,48 @@ class Subdivision {
     extremes.push_back(ext_above);
     events.push_back({j, i, blocks.size() - 1});
     if (ctx_.opt.use_index) {
+      spheres_.set(i, blocks[i].bsphere);
+      spheres_.push_back(blocks.back().bsphere);
+    }
+    if (grid_built_for_ > 0) {
       grid_.update(i, blocks[i].bsphere);
       grid_.insert(blocks.size() - 1, blocks.back().bsphere);
     }
     return true;
   }
 
+  /// The size limit decided before the children exist, from their inscribed radii in the split
+  /// block's frame (with its faces, some of which the children drop): false if a child is
+  /// surely too thin. early[k] is child k's radius (below, above) where it surely passes, else
+  /// -1 (within_limits decides on the child). Only with the native backend, and only outside
+  /// twice the band in which limit_ball decides again exactly (plus 1e-7 of the limit): there
+  /// the child's own LP, a few rounding errors away, decides the same.
+  bool early_limits(std::size_t i, std::size_t j, const Plane& plane, Referee& referee,
+                    std::array<double, 2>& early) {
+    const double min_d = ctx_.js.options.min_inscribed_diameter;
+    if (ctx_.opt.backend != LpBackend::native || min_d <= 0) return true;
+    const double margin = 2 * referee.limit_band(min_d) + 1e-7 * min_d;
+    for (std::size_t k = 0; k < 2; ++k) {
+      const double sign = k == 0 ? 1.0 : -1.0;
+      child_faces_ = blocks[i].faces;
+      child_faces_.push_back({sign * plane.normal, sign * plane.d, std::int64_t(j)});
+      const ChebyshevBall c = chebyshev_ball(referee.solver(), child_faces_, ctx_.tol);
+      ++lps.chebyshev;
+      if (c.status != LpStatus::optimal) continue;  // the child's own LP decides
+      if (2 * c.radius < min_d - margin) return false;
+      if (2 * c.radius > min_d + margin) early[k] = c.radius;
+    }
+    return true;
+  }
+
   /// Size and shape limits (eq. 18): inscribed diameter and bounding / inscribed radius.
-  bool within_limits(Block& b, Referee& referee) {
+  /// `early`: the child's radius from early_limits, which passed the size limit, or -1. With it,
+  /// the shape limit too is decided without an LP where R / r is clear of it (by 1e-6).
+  bool within_limits(Block& b, double early, Referee& referee) {
     const auto& o = ctx_.js.options;
+    if (early >= 0 &&
+        (o.max_aspect_ratio <= 0 || b.bsphere[3] < o.max_aspect_ratio * early * (1 - 1e-6)))
+      return true;
     const ChebyshevBall c =
         referee.limit_ball(b.faces, o.min_inscribed_diameter, o.max_aspect_ratio, b.bsphere[3]);
     ++lps.chebyshev;
@@ -594,6 +606,7 @@ class Cutter {
   tbb::task_arena arena_;
   std::mutex progress_mutex_;
   std::atomic<std::size_t> done_{0}, assigned_{0};  // joint-task pairs, for the progress bar
+  std::vector<PreparedJoint> prepared_;             // by joint number
   std::vector<Block> blocks_;
   CutStats stats_;
   Vec3 domain_lo_ = Vec3::Zero(), domain_hi_ = Vec3::Zero();
@@ -650,9 +663,18 @@ class Cutter {
     std::iota(root.joints.begin(), root.joints.end(), std::size_t(0));
     std::atomic<std::int64_t> total{1};
     ctx_.total = &total;
+    prepared_.resize(joints);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, joints, 1024),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t j = range.begin(); j != range.end(); ++j)
+                          prepared_[j] = prepare(js_.joints[j]);
+                      });
+    ctx_.prepared = &prepared_;
     assigned_ = joints;
     run_task(root);
     ctx_.total = nullptr;
+    ctx_.prepared = nullptr;
+    std::vector<PreparedJoint>().swap(prepared_);
 
     // The tree, parents first.
     std::vector<Task*> tasks{&root};
@@ -741,44 +763,38 @@ class Cutter {
     for (std::size_t g = 0; g < groups; ++g)
       for (std::size_t r = g * n / groups; r < (g + 1) * n / groups; ++r) group_of[order[r]] = g;
 
+    // The groups' blocks (in their order in the task) and spheres.
+    std::vector<std::vector<std::size_t>> members(groups);
+    for (std::size_t i = 0; i < n; ++i) members[group_of[i]].push_back(i);
+    std::vector<SphereGroup> spheres(groups);
+    for (std::size_t g = 0; g < groups; ++g)
+      for (const std::size_t i : members[g]) spheres[g].add(sub.blocks[i].bsphere);
+
     // The joints of each group.
     std::vector<std::vector<std::size_t>> lists(groups);
-    std::vector<std::size_t> stamp(groups, kNone);
+    std::vector<std::uint8_t> mask;
     for (std::size_t m = k; m < task.joints.size(); ++m) {
       const std::size_t j = task.joints[m];
       const Joint& joint = js_.joints[j];
-      if (!opt_.use_index || (joint.kind == JointKind::boundary && joint.persistent())) {
-        for (auto& l : lists) l.push_back(j);
-        continue;
-      }
-      sub.visit_reached(prepare(joint), j, [&](std::size_t i) {
-        const std::size_t g = group_of[i];
-        if (stamp[g] == j) return;
-        stamp[g] = j;
-        lists[g].push_back(j);
-      });
+      const bool all = !opt_.use_index || (joint.kind == JointKind::boundary && joint.persistent());
+      for (std::size_t g = 0; g < groups; ++g)
+        if (all || spheres[g].may_reach(prepared_[j], ctx_.tol.cut, mask)) lists[g].push_back(j);
     }
     // The progress bar's total: the pairs handed out replace the task's unprocessed ones.
     for (const auto& l : lists) assigned_ += l.size();
     assigned_ -= task.joints.size() - k;
 
-    // The children: each group's blocks (in their order in the task) and its box.
-    std::vector<std::vector<std::size_t>> members(groups);
-    for (std::size_t i = 0; i < n; ++i) members[group_of[i]].push_back(i);
+    // The children: each group's blocks and its box.
     for (std::size_t g = 0; g < groups; ++g) {
       std::vector<Block> roots;
       std::vector<Extremes> extremes;
-      Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
       for (const std::size_t i : members[g]) {
-        const Vec3 c = sub.blocks[i].bsphere.head<3>();
-        const Vec3 r = Vec3::Constant(sub.blocks[i].bsphere[3]);
-        lo = lo.cwiseMin(c - r);
-        hi = hi.cwiseMax(c + r);
         roots.push_back(std::move(sub.blocks[i]));
         extremes.push_back(sub.extremes[i]);
       }
       auto child = std::make_unique<Task>(ctx_, std::move(roots), std::move(extremes),
-                                          lo.cwiseMax(sub.lo()), hi.cwiseMin(sub.hi()));
+                                          spheres[g].lo().cwiseMax(sub.lo()),
+                                          spheres[g].hi().cwiseMin(sub.hi()));
       child->from = std::move(members[g]);
       child->joints = std::move(lists[g]);
       task.children.push_back(std::move(child));

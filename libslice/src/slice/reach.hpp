@@ -1,0 +1,180 @@
+#pragma once
+// Which blocks may a joint reach? Bounding spheres only (eq. 17 and Fig. 18): conservative, the
+// cut test decides. A task of the cut (cut.cpp) holds at most a few hundred blocks while it has
+// joints left, so it tests a joint against all of them, in one pass over a compact array of
+// their spheres, rather than through a grid (sphere_grid.hpp, for larger sets): the same blocks,
+// in increasing order, without the grid's loose cells or a sort (issue 29).
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "slice/geometry.hpp"
+#include "slice/scene.hpp"
+
+namespace slice {
+
+/// A joint prepared for cutting: its polygon in global coordinates and its bounding sphere.
+struct PreparedJoint {
+  Plane plane;                // global
+  std::vector<Plane> edges;   // polygon edges as in-plane half-planes (global), empty: persistent
+  std::vector<Vec3> corners;  // the polygon's corners (global), counter-clockwise about n
+  Vec3 centre = Vec3::Zero();
+  double radius = 0;                          // polygon's bounding sphere about centre
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // polygon's bounding box
+};
+
+inline PreparedJoint prepare(const Joint& j) {
+  PreparedJoint p;
+  p.plane = j.plane;
+  p.centre = j.centre;
+  if (j.persistent()) return p;
+  p.corners = joint_polygon(j);
+  const std::vector<Vec3>& v = p.corners;
+  for (const Vec2& uv : j.polygon_uv) p.radius = std::max(p.radius, uv.norm());
+  p.lo = p.hi = v.front();
+  p.edges.reserve(v.size());
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const Vec3& a = v[k];
+    const Vec3& b = v[(k + 1) % v.size()];
+    // Counter-clockwise about n: the outward in-plane normal of edge a -> b is (b - a) x n.
+    const Vec3 m = (b - a).cross(j.plane.normal).normalized();
+    p.edges.push_back({m, m.dot(a)});
+    p.lo = p.lo.cwiseMin(a);
+    p.hi = p.hi.cwiseMax(a);
+  }
+  return p;
+}
+
+/// What may_reach asks of a sphere, in plain numbers.
+struct ReachQuery {
+  ReachQuery(const PreparedJoint& pj, double tolerance)
+      : a(pj.plane.normal[0]),
+        b(pj.plane.normal[1]),
+        c(pj.plane.normal[2]),
+        d(pj.plane.d),
+        px(pj.centre[0]),
+        py(pj.centre[1]),
+        pz(pj.centre[2]),
+        pr(pj.radius + tolerance),
+        lo{pj.lo[0] - tolerance, pj.lo[1] - tolerance, pj.lo[2] - tolerance},
+        hi{pj.hi[0] + tolerance, pj.hi[1] + tolerance, pj.hi[2] + tolerance},
+        tol(tolerance),
+        polygon(!pj.edges.empty()) {}
+  double a, b, c, d;    // the plane
+  double px, py, pz;    // the polygon's centre
+  double pr;            // its radius + tol
+  double lo[3], hi[3];  // its box grown by tol
+  double tol;
+  bool polygon;
+
+  /// The plane passes within r + tol of the centre (x, y, z) and, for a polygon, the polygon's
+  /// sphere and box overlap the sphere (r) and its box by tol. Branch-free: the same arithmetic
+  /// as reach_mask.
+  bool operator()(double x, double y, double z, double r) const {
+    const bool plane = std::abs(a * x + b * y + c * z - d) < r + tol;
+    if (!polygon) return plane;
+    const double dx = x - px, dy = y - py, dz = z - pz, reach = r + pr;
+    return plane & (dx * dx + dy * dy + dz * dz < reach * reach) & (x + r > lo[0]) &
+           (x - r < hi[0]) & (y + r > lo[1]) & (y - r < hi[1]) & (z + r > lo[2]) & (z - r < hi[2]);
+  }
+};
+
+/// mask[i] = q(x[i], y[i], z[i], r[i]) for i < n (vectorised; AVX2 where the CPU has it).
+void reach_mask(const ReachQuery& q, const double* x, const double* y, const double* z,
+                const double* r, std::size_t n, std::uint8_t* mask);
+
+/// Could the joint reach the sphere of centre (x, y, z) and radius r (ReachQuery)?
+inline bool may_reach(const PreparedJoint& pj, double x, double y, double z, double r, double tol) {
+  return ReachQuery(pj, tol)(x, y, z, r);
+}
+
+inline bool may_reach(const PreparedJoint& pj, const Eigen::Vector4d& sphere, double tol) {
+  return may_reach(pj, sphere[0], sphere[1], sphere[2], sphere[3], tol);
+}
+
+/// Spheres (centre, radius) by block number, one array per coordinate.
+class SphereList {
+ public:
+  std::size_t size() const { return r_.size(); }
+  void clear() {
+    x_.clear();
+    y_.clear();
+    z_.clear();
+    r_.clear();
+  }
+  void push_back(const Eigen::Vector4d& s) {
+    x_.push_back(s[0]);
+    y_.push_back(s[1]);
+    z_.push_back(s[2]);
+    r_.push_back(s[3]);
+  }
+  void set(std::size_t i, const Eigen::Vector4d& s) {
+    x_[i] = s[0];
+    y_[i] = s[1];
+    z_[i] = s[2];
+    r_[i] = s[3];
+  }
+
+  /// Appends the numbers of the spheres the joint may reach (may_reach), increasing.
+  void reached(const PreparedJoint& pj, double tol, std::vector<std::size_t>& out,
+               std::vector<std::uint8_t>& mask) const {
+    const std::size_t n = size();
+    mask.resize(n);
+    reach_mask(ReachQuery(pj, tol), x_.data(), y_.data(), z_.data(), r_.data(), n, mask.data());
+    for (std::size_t i = 0; i < n; ++i)
+      if (mask[i]) out.push_back(i);
+  }
+
+  /// Whether the joint may reach any of the spheres.
+  bool any_reached(const PreparedJoint& pj, double tol, std::vector<std::uint8_t>& mask) const {
+    const std::size_t n = size();
+    mask.resize(n);
+    reach_mask(ReachQuery(pj, tol), x_.data(), y_.data(), z_.data(), r_.data(), n, mask.data());
+    return std::find(mask.begin(), mask.end(), std::uint8_t(1)) != mask.end();
+  }
+
+ private:
+  std::vector<double> x_, y_, z_, r_;
+};
+
+/// Spheres and a box that holds them all: the box rules a joint out for all of them at once.
+class SphereGroup {
+ public:
+  void add(const Eigen::Vector4d& s) {
+    const Vec3 c = s.head<3>(), r = Vec3::Constant(s[3]);
+    lo_ = lo_.cwiseMin(c - r);
+    hi_ = hi_.cwiseMax(c + r);
+    spheres_.push_back(s);
+  }
+  const Vec3& lo() const { return lo_; }
+  const Vec3& hi() const { return hi_; }
+
+  /// Whether may_reach holds for one of the spheres. The box tests are looser than may_reach
+  /// (by far more than their rounding), so they rule out only joints it would.
+  bool may_reach(const PreparedJoint& pj, double tol, std::vector<std::uint8_t>& mask) const {
+    if (spheres_.size() == 0) return false;
+    const Vec3 c = 0.5 * (lo_ + hi_), h = 0.5 * (hi_ - lo_);
+    const double slack =
+        tol + 1e-9 * (c.cwiseAbs().maxCoeff() + h.maxCoeff() + std::abs(pj.plane.d));
+    // A sphere inside the box lies as far from the plane as the box, or farther.
+    if (std::abs(pj.plane.distance(c)) > pj.plane.normal.cwiseAbs().dot(h) + slack) return false;
+    // ... and as far from the polygon's centre, plus its radius; its box is inside this one.
+    if (!pj.edges.empty()) {
+      const Vec3 out = ((pj.centre - c).cwiseAbs() - h).cwiseMax(0.0);
+      if (out.norm() > pj.radius + slack) return false;
+      if ((pj.lo.array() > hi_.array() + slack).any() ||
+          (pj.hi.array() < lo_.array() - slack).any())
+        return false;
+    }
+    return spheres_.any_reached(pj, tol, mask);
+  }
+
+ private:
+  Vec3 lo_ = Vec3::Constant(INFINITY), hi_ = Vec3::Constant(-INFINITY);
+  SphereList spheres_;
+};
+
+}  // namespace slice
