@@ -180,6 +180,11 @@ TEST_CASE("slice-export answers every geometry the fuzzer saved, its scripts com
       check_answer(r, "slice-export");
       // The saved names of findings in the YADE writer: the fixed writer exports them.
       if (f.filename().string().rfind("yade-", 0) == 0 && format != "3dec") CHECK(r.exit_code == 0);
+      // A tolerance that passed every check of /geometry: refused on read now.
+      if (f.filename().string().rfind("options-tolerance-", 0) == 0) {
+        CHECK(r.exit_code == 1);
+        CHECK(r.err.find("/options attribute tolerance") != std::string::npos);
+      }
       if (r.exit_code != 0 || format == "3dec") continue;
       const std::string script = test::read_bytes(out);
       CHECK(script.find('\r') == std::string::npos);

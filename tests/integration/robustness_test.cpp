@@ -147,6 +147,22 @@ TEST_CASE("inconsistent files accepted: now refused on read", "[robustness][tool
       CHECK_FALSE(test::fs::exists(out));
     }
   }
+  SECTION("slice-export: a relative tolerance that lets any vertex pass") {
+    // fuzz_export: /options tolerance 1.8e271 scaled every /geometry check past a vertex at
+    // y = -1e215, which a PotentialBlock script then got as a bounding radius of inf.
+    edit_h5(geom,
+            "f['options'].attrs['tolerance'] = 1.8e271\n"
+            "v = f['geometry/vertices'][...]; v[5][1] = -1e215; f['geometry/vertices'][...] = v");
+    for (const char* format : {"3dec", "yade-potential-blocks"}) {
+      const auto out = tmp / (std::string("m.") + format);
+      check_refused(run_tool("slice-export", {geom, "--format", format, "-o", out.string()}),
+                    "slice-export", {"/options attribute tolerance", "(0, 1)"});
+      CHECK_FALSE(test::fs::exists(out));
+    }
+    edit_h5(joints, "f['options'].attrs['tolerance'] = 0.0");
+    check_refused(run_tool("slice-cut", {joints, "-o", (tmp / "b3.h5").string()}), "slice-cut",
+                  {"/options attribute tolerance is 0"});
+  }
   SECTION("slice-cut: a boundary joint whose side is 0") {
     edit_h5(joints, "k = f['joints/kind'][...]; k[3] = 2; f['joints/kind'][...] = k");
     check_refused(run_tool("slice-cut", {joints, "-o", (tmp / "b2.h5").string()}), "slice-cut",

@@ -156,6 +156,11 @@ void check_joints(const Checker& c, const JointSystem& js) {
   c.finite(js.options.min_inscribed_diameter, "/options attribute min_inscribed_diameter");
   c.finite(js.options.max_aspect_ratio, "/options attribute max_aspect_ratio");
   c.finite(js.options.tolerance, "/options attribute tolerance");
+  // As [scene] tolerance: every check of /geometry scales with it (fuzz_export: 1.8e271 let a
+  // vertex at y = -1e215 through into a PotentialBlock script as a bounding radius of inf).
+  if (!(js.options.tolerance > 0 && js.options.tolerance < 1))
+    c.fail("/options attribute tolerance is " + num(js.options.tolerance) +
+           "; expected a relative tolerance in (0, 1), as [scene] tolerance");
   if (js.options.max_blocks < 1)
     c.fail("/options attribute max_blocks is " + str(js.options.max_blocks) + "; expected >= 1");
 }
