@@ -110,6 +110,38 @@ slice::BlockSystem cut(const test::TempDir& tmp, const std::string& name, const 
   return slice::read_blocks(b);
 }
 
+// text with its first `from` replaced by `to` (which must be there).
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+
+// A malformed input (a DFN file or a scene's lines) and the words the one line must hold.
+struct BadInput {
+  std::string name, text;
+  std::vector<std::string> words;
+};
+
+// Each case's text as the file net.fab of a scene: exit 1, one line holding the case's words
+// and `every`, no output.
+void check_refused(const test::TempDir& tmp, const std::vector<BadInput>& cases,
+                   const std::vector<std::string>& every) {
+  for (const BadInput& c : cases) {
+    CAPTURE(c.name);
+    test::write_text(tmp / "net.fab", c.text);
+    test::write_text(tmp / "s.toml", std::string(kHead) + "[[dfn]]\nfile = \"net.fab\"\n");
+    const auto out = tmp / "j.h5";
+    const auto r = run_tool("slice-joints", {(tmp / "s.toml").string(), "-o", out.string()});
+    CAPTURE(r.err);
+    CHECK(r.exit_code == 1);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    for (const auto& w : every) CHECK_THAT(r.err, Contains(w));
+    for (const auto& w : c.words) CHECK_THAT(r.err, Contains(w));
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
+}
+
 }  // namespace
 
 TEST_CASE("the polygons of a FAB file cut the blocks that the same polygons as [[joints]] cut",
@@ -249,16 +281,9 @@ TEST_CASE("FAB tessellated fractures: planar meshes that tile a convex polygon a
   // Refused with the file's line: bad lines, and meshes that are not one planar convex polygon.
   const std::string good = tess_fab();
   const auto replace = [&](const std::string& from, const std::string& to) {
-    std::string s = good;
-    const auto at = s.find(from);
-    REQUIRE(at != std::string::npos);
-    return s.replace(at, from.size(), to);
+    return replaced(good, from, to);
   };
-  struct Case {
-    std::string name, text;
-    std::vector<std::string> words;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<BadInput> cases = {
       {"count",
        replace("No_TessFractures = 2", "No_TessFractures = 3"),
        {"net.fab:1:", "No_TessFractures = 3", "2 tessellated"}},
@@ -275,18 +300,7 @@ TEST_CASE("FAB tessellated fractures: planar meshes that tile a convex polygon a
        {"net.fab:54:", "tessellated fracture 6", "not one convex polygon"}},
       {"end", replace("END TESSFRACTURE\n", ""), {"END TESSFRACTURE is missing", "line 53"}},
   };
-  for (const Case& c : cases) {
-    CAPTURE(c.name);
-    test::write_text(tmp / "net.fab", c.text);
-    test::write_text(tmp / "s.toml", std::string(kHead) + "[[dfn]]\nfile = \"net.fab\"\n");
-    const auto out = tmp / "j.h5";
-    const auto r = run_tool("slice-joints", {(tmp / "s.toml").string(), "-o", out.string()});
-    CAPTURE(r.err);
-    CHECK(r.exit_code == 1);
-    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-    for (const auto& w : c.words) CHECK_THAT(r.err, Contains(w));
-    CHECK_FALSE(std::filesystem::exists(out));
-  }
+  check_refused(tmp, cases, {});
 }
 
 TEST_CASE("slice-export --format fab writes a DFN that reads back as the same joints",
@@ -441,18 +455,11 @@ TEST_CASE("bad DFN files are refused by slice-joints with one line naming the li
   test::TempDir tmp;
   const std::string fab = kFab;
   const auto replace = [&](const std::string& from, const std::string& to) {
-    std::string s = fab;
-    const auto at = s.find(from);
-    REQUIRE(at != std::string::npos);
-    return s.replace(at, from.size(), to);
-  };
-  struct Case {
-    std::string name, text;
-    std::vector<std::string> words;
+    return replaced(fab, from, to);
   };
   std::string big = "BEGIN FORMAT\nFormat = Ascii\nEND FORMAT\nBEGIN FRACTURE\n1 10000000 1\n";
   for (int k = 0; k < 40; ++k) big += "1 0 0 " + std::to_string(k) + "\n";
-  const std::vector<Case> cases = {
+  const std::vector<BadInput> cases = {
       {"count",
        replace("No_Fractures = 5", "No_Fractures = 6"),
        {"net.fab:1:", "No_Fractures = 6", "5 fractures"}},
@@ -475,25 +482,13 @@ TEST_CASE("bad DFN files are refused by slice-joints with one line naming the li
        {"ROCKBLOCK", "not read"}},
       {"binary", replace("Format = Ascii", "Format = Binary"), {"net.fab:2:", "ASCII"}},
   };
-  for (const Case& c : cases) {
-    CAPTURE(c.name);
-    test::write_text(tmp / "net.fab", c.text);
-    test::write_text(tmp / "s.toml", std::string(kHead) + "[[dfn]]\nfile = \"net.fab\"\n");
-    const auto out = tmp / "j.h5";
-    const auto r = run_tool("slice-joints", {(tmp / "s.toml").string(), "-o", out.string()});
-    CAPTURE(r.err);
-    CHECK(r.exit_code == 1);
-    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
-    CHECK_THAT(r.err, Contains("s.toml:6:"));
-    for (const auto& w : c.words) CHECK_THAT(r.err, Contains(w));
-    CHECK_FALSE(std::filesystem::exists(out));
-  }
+  check_refused(tmp, cases, {"s.toml:6:"});
   // The scene's own mistakes: an unknown set in `sets`, a CSV without radius, a [[joints]] set
   // of another friction, -o on the DFN file.
   test::write_text(tmp / "net.fab", fab);
   test::write_text(tmp / "d.csv", "x,y,z,dip,dip_direction\n1,2,3,4,5\n");
   test::write_text(tmp / "t.csv", "x,y,z,dip,dip_direction,radius\n1,2,3,4,5,1e-300\n");
-  const std::vector<Case> scenes = {
+  const std::vector<BadInput> scenes = {
       {"sets",
        "[[dfn]]\nfile = \"net.fab\"\nsets = { D = { cohesion = 1 } }\n",
        {"unknown key 'D'"}},
@@ -504,7 +499,7 @@ TEST_CASE("bad DFN files are refused by slice-joints with one line naming the li
        "set = \"A\"\nfriction_angle = 20\n",
        {"friction_angle 20", "set \"A\""}},
   };
-  for (const Case& c : scenes) {
+  for (const BadInput& c : scenes) {
     CAPTURE(c.name);
     test::write_text(tmp / "s.toml", std::string(kHead) + c.text);
     const auto r =
