@@ -129,12 +129,13 @@ TEST_CASE("inconsistent files accepted: now refused on read", "[robustness][tool
     // Block 0 of the cube is a box: drop its two z faces by making them copies of an x face.
     edit_h5(blocks,
             "o = f['blocks/face_offset'][...]; n = f['blocks/face_normal'][...]\n"
-            "d = f['blocks/face_d'][...]\n"
+            "d = f['blocks/face_d'][...]; j = f['blocks/face_joint'][...]\n"
             "zs = [i for i in range(o[0], o[1]) if abs(n[i][2]) > 0.5]\n"
             "xs = [i for i in range(o[0], o[1]) if abs(n[i][0]) > 0.5]\n"
             "assert len(zs) == 2 and xs\n"
-            "for i in zs: n[i] = n[xs[0]]; d[i] = d[xs[0]]\n"
-            "f['blocks/face_normal'][...] = n; f['blocks/face_d'][...] = d");
+            "for i in zs: n[i] = n[xs[0]]; d[i] = d[xs[0]]; j[i] = j[xs[0]]\n"
+            "f['blocks/face_normal'][...] = n; f['blocks/face_d'][...] = d\n"
+            "f['blocks/face_joint'][...] = j");
     check_refused(run_tool("slice-prune", {blocks, "-o", (tmp / "p.h5").string()}), "slice-prune",
                   {"block 0", "do not bound a solid"});
   }

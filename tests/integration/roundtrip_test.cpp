@@ -26,7 +26,9 @@ TEST_CASE("blocks.h5 carries the joint system unchanged", "[roundtrip]") {
   bs.joints = slice::generate_joints(slice::load_scene(test::data_path("rock-slope.toml")));
   slice::Block b;
   b.origin = {1, 2, 3};
-  b.faces = {{slice::Vec3::UnitX(), 0.5, -1}, {-slice::Vec3::UnitX(), 0.5, 0}};
+  // A domain face and a face on joint 0 (a face that names a joint lies on its plane).
+  const slice::Plane j0 = slice::to_local(bs.joints.joints[0].plane, b.origin);
+  b.faces = {{slice::Vec3::UnitX(), 0.5, -1}, {-j0.normal, -j0.d, 0}};
   bs.blocks = {b};
   slice::write_blocks(tmp / "b.h5", bs, {"test", "0", "test", "x", "0"});
   const auto back = slice::read_blocks(tmp / "b.h5");

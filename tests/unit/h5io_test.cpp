@@ -105,25 +105,32 @@ slice::JointSystem sample_joints() {
   return js;
 }
 
+// The face of a block at `origin` on joint j of `js`, on the side `sign` (+1: the joint's normal
+// points out of the block): a face that names a joint lies on its plane.
+slice::Face on_joint(const slice::JointSystem& js, std::int64_t j, const Vec3& origin,
+                     double sign) {
+  const slice::Plane p = slice::to_local(js.joints[std::size_t(j)].plane, origin);
+  return {sign * p.normal, sign * p.d, j};
+}
+
 slice::BlockSystem sample_blocks() {
   slice::BlockSystem bs;
   bs.joints = sample_joints();
   bs.pruned = true;
+  const auto& js = bs.joints;
 
   slice::Block a;  // a box of domain faces and joint faces, no flags, no cluster
   a.origin = {0.1, 0.2, 0.3};
   for (const auto& p : box({-1, -2, -3}, {1, 2, 3}).planes) a.faces.push_back({p.normal, p.d, -1});
-  a.faces[4].joint = 0;
+  a.faces[4] = on_joint(js, 0, a.origin, -1);
   a.inradius = 1;
   a.bsphere = {0.1, 0.2, 0.3, 3.7416573867739413};
   bs.blocks.push_back(a);
 
   slice::Block b;  // boundary, in cluster 3
   b.origin = {-12.5, 7.125, 99.0000001};
-  b.faces = {{Vec3::UnitZ(), 0.5, 4},
-             {Vec3(0.6, 0, 0.8), 1.0 / 3, 1},
-             {Vec3(0, -0.8, 0.6), 2.0, 2},
-             {Vec3(-1, -1, -1).normalized(), 0.25, 3}};
+  b.faces = {on_joint(js, 4, b.origin, 1), on_joint(js, 1, b.origin, 1),
+             on_joint(js, 2, b.origin, -1), on_joint(js, 3, b.origin, 1)};
   b.inradius = 0.0625;
   b.bsphere = {-12.4, 7.2, 99.1, 2.5};
   b.flags = slice::kBoundary;
@@ -132,7 +139,8 @@ slice::BlockSystem sample_blocks() {
 
   slice::Block c = b;  // boundary and removed, same cluster
   c.origin = {5e5, 5e6, 300};
-  c.faces.pop_back();
+  c.faces = {on_joint(js, 4, c.origin, 1), on_joint(js, 1, c.origin, 1),
+             on_joint(js, 2, c.origin, -1)};
   c.flags = slice::kBoundary | slice::kRemoved;
   bs.blocks.push_back(c);
 
@@ -329,6 +337,16 @@ TEST_CASE("writers refuse invalid content", "[h5io]") {
   SECTION("face joint out of range") {
     bs.blocks[1].faces[0].joint = 5;
     expect = "/blocks/face_joint row 6 is 5";
+  }
+  SECTION("a face naming a joint of another orientation") {
+    bs.blocks[1].faces[0].joint = 1;
+    expect =
+        "/blocks/face_joint row 6 is 1, but face 6 does not lie on joint 1's plane: its "
+        "normal (-1, -0, -0) is not the joint's (0.6, 0, 0.8) or the opposite";
+  }
+  SECTION("a face beside its joint's plane") {
+    bs.blocks[1].faces[1].d += 1e-6;
+    expect = "/blocks/face_joint row 7 is 1, but face 7 does not lie on joint 1's plane: it lies";
   }
   SECTION("NaN face offset") {
     bs.blocks[2].faces[2].d = kNaN;
@@ -588,6 +606,9 @@ std::vector<BadFile> bad_files() {
       {"face joint past the joints", B,
        [](const Group& r) { poke<std::int64_t>(r, "blocks", "face_joint", 7, 5); },
        "/blocks/face_joint row 7 is 5; expected -1 (domain face) or a joint index below 5"},
+      {"face joint of another plane", B,
+       [](const Group& r) { poke<std::int64_t>(r, "blocks", "face_joint", 8, 3); },
+       "/blocks/face_joint row 8 is 3, but face 8 does not lie on joint 3's plane"},
       {"face joint -2", B,
        [](const Group& r) { poke<std::int64_t>(r, "blocks", "face_joint", 0, -2); },
        "/blocks/face_joint row 0 is -2"},
