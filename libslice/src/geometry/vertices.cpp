@@ -94,8 +94,14 @@ double loop_area(const std::vector<Vec3>& v, const std::vector<std::int64_t>& lo
 /// left out. Empty if the points do not span a solid. Meant for the tens of points of a block:
 /// O(n^2). (CGAL::convex_hull_3 gives the same hull but spends 20-30 us per block in list
 /// allocations and exact fallbacks of its distance comparisons.)
-std::vector<Triangle> convex_hull(const std::vector<Point>& pts) {
-  std::vector<Triangle> hull;
+/// Its working arrays, kept by the caller from block to block (no allocation per block).
+struct HullScratch {
+  std::vector<char> visible;
+  std::vector<std::array<std::size_t, 2>> horizon;
+};
+
+void convex_hull(const std::vector<Point>& pts, std::vector<Triangle>& hull, HullScratch& s) {
+  hull.clear();
   const std::size_t n = pts.size();
   // A first tetrahedron: p0, p1 != p0, p2 off the line p0 p1, p3 off the plane p0 p1 p2.
   std::size_t i1 = 1, i2 = 0, i3 = 0;
@@ -105,14 +111,14 @@ std::vector<Triangle> convex_hull(const std::vector<Point>& pts) {
   CGAL::Orientation o = CGAL::COPLANAR;
   for (i3 = i2 + 1; i3 < n; ++i3)
     if ((o = CGAL::orientation(pts[0], pts[i1], pts[i2], pts[i3])) != CGAL::COPLANAR) break;
-  if (i1 >= n || i2 >= n || i3 >= n) return hull;
+  if (i1 >= n || i2 >= n || i3 >= n) return;
   std::size_t a = 0, b = i1, c = i2;
   if (o == CGAL::POSITIVE) std::swap(b, c);  // now i3 is below the plane a b c
   const std::size_t d = i3;
   hull = {{a, b, c}, {a, d, b}, {b, d, c}, {c, d, a}};
 
-  std::vector<char> visible;
-  std::vector<std::array<std::size_t, 2>> horizon;
+  auto& visible = s.visible;
+  auto& horizon = s.horizon;
   for (std::size_t p = 1; p < n; ++p) {
     if (p == i1 || p == i2 || p == i3) continue;
     visible.assign(hull.size(), 0);
@@ -129,10 +135,10 @@ std::vector<Triangle> convex_hull(const std::vector<Point>& pts) {
       for (std::size_t k = 0; k < 3; ++k) {
         const std::size_t u = hull[t][k], v = hull[t][(k + 1) % 3];
         bool inner = false;
-        for (std::size_t s = 0; s < hull.size() && !inner; ++s)
-          if (visible[s] && s != t)
+        for (std::size_t q = 0; q < hull.size() && !inner; ++q)
+          if (visible[q] && q != t)
             for (std::size_t m = 0; m < 3; ++m)
-              if (hull[s][m] == v && hull[s][(m + 1) % 3] == u) inner = true;
+              if (hull[q][m] == v && hull[q][(m + 1) % 3] == u) inner = true;
         if (!inner) horizon.push_back({u, v});
       }
     }
@@ -142,7 +148,6 @@ std::vector<Triangle> convex_hull(const std::vector<Point>& pts) {
     hull.resize(keep);
     for (const auto& e : horizon) hull.push_back({e[0], e[1], p});
   }
-  return hull;
 }
 
 /// The block's interior point the dual hull is built about, block frame: the origin when it is
@@ -416,23 +421,43 @@ struct JointEdges {
   }
 };
 
-BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& tol,
-                                std::size_t id, const JointEdges* joint_edges);
+/// block_geometry_3d's working arrays, kept from block to block by a caller that computes many
+/// (their capacity stays; no allocation per block once they have grown).
+struct Scratch3d {
+  struct Wedge {
+    std::size_t a, b, t;  // facet t = (face, a, b), counter-clockwise
+  };
+  std::vector<Point> dual;
+  std::vector<Triangle> triangles;
+  HullScratch hull;
+  std::vector<Vec3> local;  // block frame, relative to the hull centre
+  std::vector<std::int64_t> vertex_of, sorted;
+  std::vector<std::size_t> around_offset;  // face f's wedges: around[around_offset[f] ...]
+  std::vector<Wedge> around;
+  std::vector<Plane> own;
+  std::vector<Vec3> part, clipped;
+};
+
+void block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& tol, std::size_t id,
+                       const JointEdges* joint_edges, Scratch3d& s, BlockGeometry& g);
 
 }  // namespace
 
 BlockGeometry block_geometry(const Block& b, const JointSystem& js, const Tolerances& tol,
                              std::size_t id) {
   if (js.dimension == 2) return block_geometry_2d(b, js, tol, id);
-  return block_geometry_3d(b, js, tol, id, nullptr);
+  Scratch3d scratch;
+  BlockGeometry g;
+  block_geometry_3d(b, js, tol, id, nullptr, scratch, g);
+  return g;
 }
 
 namespace {
 
-/// block_geometry of a 3-D block, with the polygon joints' edges made once for all blocks
-/// (`joint_edges`) or, without them, for each face that needs them.
-BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& tol,
-                                std::size_t id, const JointEdges* joint_edges) {
+/// block_geometry of a 3-D block into `g` (its arrays reused), with the polygon joints' edges
+/// made once for all blocks (`joint_edges`) or, without them, for each face that needs them.
+void block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& tol, std::size_t id,
+                       const JointEdges* joint_edges, Scratch3d& s, BlockGeometry& g) {
   const std::size_t nf = b.faces.size();
   if (nf < 4)
     throw Error(block_name(id),
@@ -441,13 +466,14 @@ BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tol
   const Vec3 centre = hull_centre(b, tol, id);
 
   // The dual points n_i / d_i (about the centre) and their convex hull.
-  std::vector<Point> dual;
-  dual.reserve(nf);
+  auto& dual = s.dual;
+  dual.clear();
   for (const Face& f : b.faces) {
     const Vec3 p = f.normal / (f.d - f.normal.dot(centre));
     dual.emplace_back(p.x(), p.y(), p.z());
   }
-  const std::vector<Triangle> triangles = convex_hull(dual);
+  auto& triangles = s.triangles;
+  convex_hull(dual, triangles, s.hull);
   if (triangles.empty())
     throw Error(block_name(id), "its faces do not bound a solid (the dual hull is flat)",
                 "regenerate the blocks with slice-cut");
@@ -461,9 +487,10 @@ BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tol
 
   // One vertex per hull facet; facets whose vertices are closer than the geometry tolerance
   // are one vertex (four or more planes meeting).
-  BlockGeometry g;
-  std::vector<Vec3> local;  // block frame, relative to centre
-  std::vector<std::int64_t> vertex_of(triangles.size());
+  auto& local = s.local;
+  auto& vertex_of = s.vertex_of;
+  local.clear();
+  vertex_of.resize(triangles.size());
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const auto& tr = triangles[t];
     const Vec3 x = meet(b.faces[tr[0]], b.faces[tr[1]], b.faces[tr[2]], centre);
@@ -480,24 +507,32 @@ BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tol
   check_inside(b, local, centre, tol, id);
 
   // Face loops: the facets around a hull vertex, in the hull's counter-clockwise order, are the
-  // face's vertices counter-clockwise seen from outside (the polar map keeps orientation).
-  struct Wedge {
-    std::size_t a, b, t;  // facet t = (face, a, b), counter-clockwise
-  };
-  std::vector<std::vector<Wedge>> around(nf);  // hull vertex = face index
+  // face's vertices counter-clockwise seen from outside (the polar map keeps orientation). The
+  // wedges of hull vertex (= face) f, in facet order: around[around_offset[f] ...].
+  auto& offset = s.around_offset;
+  offset.assign(nf + 1, 0);
+  for (const Triangle& tr : triangles)
+    for (const std::size_t f : tr) ++offset[f + 1];
+  for (std::size_t f = 0; f < nf; ++f) offset[f + 1] += offset[f];
+  s.around.resize(offset[nf]);
   for (std::size_t t = 0; t < triangles.size(); ++t)
     for (std::size_t k = 0; k < 3; ++k)
-      around[triangles[t][k]].push_back({triangles[t][(k + 1) % 3], triangles[t][(k + 2) % 3], t});
+      s.around[offset[triangles[t][k]]++] = {triangles[t][(k + 1) % 3], triangles[t][(k + 2) % 3],
+                                             t};
+  for (std::size_t f = nf; f > 0; --f) offset[f] = offset[f - 1];  // back to the starts
+  offset[0] = 0;
 
   g.loops.resize(nf);
   g.face_area.resize(nf);
   g.face_joint_fraction.assign(nf, 1.0);
   for (std::size_t f = 0; f < nf; ++f) {
-    const auto& w = around[f];
+    const std::span<const Scratch3d::Wedge> w(s.around.data() + offset[f],
+                                              offset[f + 1] - offset[f]);
     if (w.empty())
       throw Error(block_name(id), face_name(b, f) + " does not touch the block (it is redundant)",
                   kSlicerFix);
     auto& loop = g.loops[f];
+    loop.clear();
     std::size_t cur = 0;
     for (std::size_t step = 0; step < w.size(); ++step) {
       const std::int64_t v = vertex_of[w[cur].t];
@@ -510,7 +545,8 @@ BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tol
     }
     SLICE_ASSERT(cur == 0);
     while (loop.size() > 1 && loop.front() == loop.back()) loop.pop_back();
-    std::vector<std::int64_t> sorted = loop;
+    auto& sorted = s.sorted;
+    sorted.assign(loop.begin(), loop.end());
     std::sort(sorted.begin(), sorted.end());
     const bool repeats = std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
     double perimeter = 0;
@@ -526,21 +562,19 @@ BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tol
     // Part of the face inside its joint's polygon, in the face's plane (block frame).
     const std::int64_t j = b.faces[f].joint;
     if (j < 0 || std::size_t(j) >= js.joints.size()) continue;
-    std::vector<Plane> own;
     std::span<const Plane> edges;
     if (joint_edges)
       edges = joint_edges->of(std::size_t(j));
     else if (!js.joints[std::size_t(j)].persistent())
-      edges = own = polygon_edges(js.joints[std::size_t(j)]);
+      edges = s.own = polygon_edges(js.joints[std::size_t(j)]);
     if (!edges.empty()) {
       const Vec3 o = b.origin + centre;
-      std::vector<Vec3> part, clipped;
-      part.reserve(2 * loop.size() + 8);
-      clipped.reserve(2 * loop.size() + 8);
+      auto& part = s.part;
+      part.clear();
       for (const std::int64_t v : loop) part.push_back(local[std::size_t(v)]);
       for (std::size_t k = 0; k < edges.size() && !part.empty(); ++k) {
-        clip_polygon(part, to_local(edges[k], o), clipped);
-        part.swap(clipped);
+        clip_polygon(part, to_local(edges[k], o), s.clipped);
+        part.swap(s.clipped);
       }
       const double inside = part.size() < 3 ? 0 : b.faces[f].normal.dot(newell_normal(part)) / 2;
       g.face_joint_fraction[f] = std::clamp(inside / area, 0.0, 1.0);
@@ -552,9 +586,8 @@ BlockGeometry block_geometry_3d(const Block& b, const JointSystem& js, const Tol
   g.volume = mp.volume;
   g.centroid = b.origin + centre + mp.centroid;
   g.inertia = mp.inertia;
-  g.vertices.reserve(local.size());
+  g.vertices.clear();
   for (const Vec3& x : local) g.vertices.push_back(b.origin + centre + x);
-  return g;
 }
 
 /// Appends block i's geometry to geo (block-local vertex numbers, as the file stores them).
@@ -638,12 +671,15 @@ GeometryStats compute_geometry(const BlockSystem& bs, const GeometrySink& sink,
     tbb::parallel_for(std::size_t(0), count, [&](std::size_t c) {
       const std::size_t lo = (w0 + c) * kChunk, hi = std::min(n, lo + kChunk);
       try {
-        for (std::size_t i = lo; i < hi; ++i)
-          append(wave.parts[c],
-                 bs.joints.dimension == 2
-                     ? block_geometry(bs.blocks[i], bs.joints, tol, i)
-                     : block_geometry_3d(bs.blocks[i], bs.joints, tol, i, &joint_edges),
-                 wave.stats[c]);
+        Scratch3d scratch;  // a chunk's blocks reuse one set of working arrays
+        BlockGeometry g;
+        for (std::size_t i = lo; i < hi; ++i) {
+          if (bs.joints.dimension == 2)
+            g = block_geometry(bs.blocks[i], bs.joints, tol, i);
+          else
+            block_geometry_3d(bs.blocks[i], bs.joints, tol, i, &joint_edges, scratch, g);
+          append(wave.parts[c], g, wave.stats[c]);
+        }
       } catch (...) {
         wave.failure[c] = std::current_exception();
       }
