@@ -11,6 +11,7 @@
 
 #include "io/h5/h5.hpp"
 #include "slice/error.hpp"
+#include "slice/threads.hpp"
 #include "support/compare.hpp"
 #include "support/support.hpp"
 
@@ -373,6 +374,33 @@ TEST_CASE("writers refuse invalid content", "[h5io]") {
     CHECK_THAT(msg2, Contains("j.h5: " + expect));
     CHECK(fs::is_empty(dir.path()));
   }
+}
+
+TEST_CASE("the checks of many blocks report the first bad block on any number of threads",
+          "[h5io]") {
+  // 20,000 copies of block 0 (6 faces each): runs of blocks are checked concurrently; of two bad
+  // blocks in different runs the first in block order is the one named.
+  auto bs = sample_blocks();
+  bs.blocks.assign(20'000, bs.blocks[0]);
+  bs.blocks[15'000].faces[2].d = kNaN;
+  bs.blocks[9'000].faces[1].normal = {0, 2, 0};
+  bs.blocks[12'000].inradius = -1;
+  for (const int threads : {1, 2, 3}) {
+    CAPTURE(threads);
+    test::TempDir dir;
+    const std::string msg = test::error_of(
+        [&] { slice::with_threads(threads, [&] { slice::write_blocks(dir / "b.h5", bs, {}); }); });
+    CHECK_THAT(msg, Contains("b.h5: /blocks/face_normal row 54001 is (0, 2, 0)"));
+    CHECK(fs::is_empty(dir.path()));
+  }
+  bs.blocks[9'000] = bs.blocks[0];
+  bs.blocks[12'000] = bs.blocks[0];
+  bs.blocks[15'000] = bs.blocks[0];
+  test::TempDir dir;
+  slice::with_threads(2, [&] { slice::write_blocks(dir / "b.h5", bs, {}); });
+  slice::BlockSystem back;
+  slice::with_threads(2, [&] { back = slice::read_blocks(dir / "b.h5"); });
+  CHECK(back.blocks.size() == 20'000);
 }
 
 namespace {

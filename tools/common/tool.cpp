@@ -17,6 +17,7 @@
 #include "slice/h5io.hpp"
 #include "slice/hash.hpp"
 #include "slice/output.hpp"
+#include "slice/threads.hpp"
 #include "slice/version.hpp"
 
 namespace tool {
@@ -136,7 +137,7 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   // (a full disk on the second output) leaves every existing output as it was.
   slice::hold_commits();
   try {
-    body();
+    slice::with_threads(threads, body);  // --threads bounds the readers' checks too
     slice::commit_held_outputs();
     bar_->finish();
     return 0;

@@ -43,40 +43,45 @@ void check_face_on_joint(const Checker& c, const JointSystem& js, const std::vec
   c.fail(what + "it lies " + num(std::abs(off)) + " from it (tolerance " + num(tol) + ")");
 }
 
+// Block b of the file (its first face is row face_row, which is advanced past its faces).
+void check_block(const Checker& c, const BlockSystem& bs, const std::vector<Plane>& planes,
+                 bool section, std::size_t b, std::size_t& face_row) {
+  const auto joints = static_cast<std::int64_t>(bs.joints.joints.size());
+  const Block& blk = bs.blocks[b];
+  c.finite(blk.origin, At{"/blocks/origin", b});
+  if (section && blk.origin.y() != 0)
+    c.fail(at("/blocks/origin", b) + " has y = " + num(blk.origin.y()) +
+           "; a 2-D file (root attribute dimension 2) has y = 0 everywhere");
+  for (const Face& f : blk.faces) {
+    c.unit(f.normal, At{"/blocks/face_normal", face_row});
+    if (section && f.normal.y() != 0)
+      c.fail(at("/blocks/face_normal", face_row) + " has y = " + num(f.normal.y()) +
+             "; a 2-D file (root attribute dimension 2) has y = 0 everywhere");
+    c.finite(f.d, At{"/blocks/face_d", face_row});
+    if (f.joint < -1 || f.joint >= joints)
+      c.fail(at("/blocks/face_joint", face_row) + " is " + str(f.joint) +
+             "; expected -1 (domain face) or a joint index below " + str(joints) +
+             " (the rows of /joints/normal)");
+    if (f.joint >= 0) check_face_on_joint(c, bs.joints, planes, blk, f, face_row);
+    ++face_row;
+  }
+  c.non_negative(blk.inradius, At{"/blocks/inradius", b});
+  c.finite(blk.bsphere, At{"/blocks/bsphere", b});
+  c.non_negative(blk.bsphere[3], At{"/blocks/bsphere", b, " radius"});
+  if (blk.cluster < -1)
+    c.fail(at("/blocks/cluster", b) + " is " + str(blk.cluster) +
+           "; expected -1 (none) or a cluster id");
+}
+
 void check_blocks(const Checker& c, const BlockSystem& bs, bool with_geometry = true) {
   check_joints(c, bs.joints);
-  const auto joints = static_cast<std::int64_t>(bs.joints.joints.size());
   std::vector<Plane> planes;
   planes.reserve(bs.joints.joints.size());
   for (const Joint& j : bs.joints.joints) planes.push_back(j.plane);
-  std::size_t face_row = 0;
-  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
-    const Block& blk = bs.blocks[b];
-    c.finite(blk.origin, At{"/blocks/origin", b});
-    const bool section = bs.joints.dimension == 2;
-    if (section && blk.origin.y() != 0)
-      c.fail(at("/blocks/origin", b) + " has y = " + num(blk.origin.y()) +
-             "; a 2-D file (root attribute dimension 2) has y = 0 everywhere");
-    for (const Face& f : blk.faces) {
-      c.unit(f.normal, At{"/blocks/face_normal", face_row});
-      if (section && f.normal.y() != 0)
-        c.fail(at("/blocks/face_normal", face_row) + " has y = " + num(f.normal.y()) +
-               "; a 2-D file (root attribute dimension 2) has y = 0 everywhere");
-      c.finite(f.d, At{"/blocks/face_d", face_row});
-      if (f.joint < -1 || f.joint >= joints)
-        c.fail(at("/blocks/face_joint", face_row) + " is " + str(f.joint) +
-               "; expected -1 (domain face) or a joint index below " + str(joints) +
-               " (the rows of /joints/normal)");
-      if (f.joint >= 0) check_face_on_joint(c, bs.joints, planes, blk, f, face_row);
-      ++face_row;
-    }
-    c.non_negative(blk.inradius, At{"/blocks/inradius", b});
-    c.finite(blk.bsphere, At{"/blocks/bsphere", b});
-    c.non_negative(blk.bsphere[3], At{"/blocks/bsphere", b, " radius"});
-    if (blk.cluster < -1)
-      c.fail(at("/blocks/cluster", b) + " is " + str(blk.cluster) +
-             "; expected -1 (none) or a cluster id");
-  }
+  const bool section = bs.joints.dimension == 2;
+  check_runs(bs.blocks, [&](std::size_t lo, std::size_t hi, std::size_t face_row) {
+    for (std::size_t b = lo; b < hi; ++b) check_block(c, bs, planes, section, b, face_row);
+  });
   if (with_geometry && bs.geometry) check_geometry(c, bs);
 }
 
@@ -280,7 +285,7 @@ struct BlocksFileWriter::Impl {
       taken.notify_one();
       if (!geo) geo.emplace(root, bs);
       const std::size_t n = run.volume.size();
-      check_geometry(c, bs, run, geo->next(), n, vertex_tolerance(bs.joints, run.vertices));
+      check_geometry(c, bs, run, geo->next(), n, vertex_tolerance(bs.joints, run.vertices), false);
       geo->append(run, 0, 0, n);
     }
     if (abandoned) return;

@@ -1,8 +1,11 @@
 #include "file_common.hpp"
 
+#include <oneapi/tbb/parallel_for.h>
+
 #include <array>
 #include <charconv>
 #include <cstdint>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -38,6 +41,32 @@ std::size_t face_count(std::span<const Block> blocks) {
   std::size_t faces = 0;
   for (const Block& b : blocks) faces += b.faces.size();
   return faces;
+}
+
+void check_runs(std::span<const Block> blocks,
+                const std::function<void(std::size_t, std::size_t, std::size_t)>& check,
+                bool concurrent) {
+  constexpr std::size_t kRun = 4096;
+  const std::size_t runs = (blocks.size() + kRun - 1) / kRun;
+  std::vector<std::size_t> first_face(runs + 1, 0);
+  for (std::size_t r = 0; r < runs; ++r)
+    first_face[r + 1] = first_face[r] + face_count(blocks.subspan(
+                                            r * kRun, std::min(kRun, blocks.size() - r * kRun)));
+  if (runs <= 1 || !concurrent) {  // a small file: no tasks
+    for (std::size_t r = 0; r < runs; ++r)
+      check(r * kRun, std::min(blocks.size(), (r + 1) * kRun), first_face[r]);
+    return;
+  }
+  std::vector<std::exception_ptr> failure(runs);
+  tbb::parallel_for(std::size_t(0), runs, [&](std::size_t r) {
+    try {
+      check(r * kRun, std::min(blocks.size(), (r + 1) * kRun), first_face[r]);
+    } catch (...) {
+      failure[r] = std::current_exception();
+    }
+  });
+  for (const auto& f : failure)
+    if (f) std::rethrow_exception(f);
 }
 
 void write_header(const Group& root, FileKind kind, const Provenance& prov, const JointSystem& js) {

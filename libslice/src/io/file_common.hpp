@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -103,13 +104,23 @@ void check_joints(const Checker& c, const JointSystem& js);
 // How far a stored vertex may lie off its faces (geometry_file.cpp says why).
 double vertex_tolerance(const JointSystem& js, const std::vector<Vec3>& vertices);
 // The geometry `g` of the n blocks from base.block on against the blocks it describes.
+// `concurrent`: as for check_runs.
 void check_geometry(const Checker& c, const BlockSystem& bs, const Geometry& g,
-                    const GeometryBase& base, std::size_t n, double tol);
+                    const GeometryBase& base, std::size_t n, double tol, bool concurrent = true);
 // All of /geometry against the blocks.
 void check_geometry(const Checker& c, const BlockSystem& bs);
 
 // The faces of some blocks: the rows they take in /blocks/face_normal and the per-face datasets.
 std::size_t face_count(std::span<const Block> blocks);
+
+// The per-block checks of millions of blocks, on the caller's threads (slice::with_threads):
+// check(lo, hi, face) for the blocks [lo, hi) of `blocks`, in runs, `face` the row of block
+// lo's first face. The failure of the first run in block order is the one thrown, so a file
+// gets the same message on any number of threads. `concurrent` false: on this thread only (the
+// writing thread, which runs beside the computation that has the threads).
+void check_runs(std::span<const Block> blocks,
+                const std::function<void(std::size_t, std::size_t, std::size_t)>& check,
+                bool concurrent = true);
 
 // --- writing ---------------------------------------------------------------------------------
 

@@ -57,13 +57,58 @@ void check_vertices_on_faces(const Checker& c, const Geometry& g, const Block& b
   }
 }
 
+// Block base.block + b of the run `g` (its first face the run's row `face`, which is advanced past
+// its faces) against its faces.
+void check_block_geometry(const Checker& c, const BlockSystem& bs, const Geometry& g,
+                          const GeometryBase& base, double tol, bool section, std::size_t b,
+                          std::size_t& face) {
+  const std::size_t block = base.block + b;  // the file's row
+  const Block& blk = bs.blocks[block];
+  const std::int64_t nv = g.vertex_offset[b + 1] - g.vertex_offset[b];
+  const std::size_t first_face = face;
+  for (std::size_t f = 0; f < blk.faces.size(); ++f, ++face) {
+    const std::size_t file_face = base.face + face;
+    const auto lo = static_cast<std::size_t>(g.face_vertex_offset[face]);
+    const auto hi = static_cast<std::size_t>(g.face_vertex_offset[face + 1]);
+    // A 2-D block's face is an edge: its two ends (docs/2d.md).
+    if (section ? hi - lo != 2 : hi - lo < 3)
+      c.fail(at("/geometry/face_vertex_offset", file_face) + " gives face " + str(file_face) + " " +
+             str(hi - lo) + " vertices; a face has " +
+             (section ? "2 in a 2-D file (an edge)" : "at least 3"));
+    for (std::size_t k = lo; k < hi; ++k)
+      if (g.face_vertices[k] < 0 || g.face_vertices[k] >= nv)
+        c.fail(at("/geometry/face_vertices", std::size_t(base.face_vertex) + k) + " is " +
+               str(g.face_vertices[k]) + "; expected an index into block " + str(block) + "'s " +
+               str(nv) + " vertices");
+    c.finite(g.face_area[face], At{"/geometry/face_area", file_face});
+    if (!(g.face_area[face] > 0))
+      c.fail(at("/geometry/face_area", file_face) + " is " + num(g.face_area[face]) +
+             "; a face has positive area");
+    const double fr = g.face_joint_fraction[face];
+    if (!(fr >= 0 && fr <= 1))
+      c.fail(at("/geometry/face_joint_fraction", file_face) + " is " + num(fr) +
+             "; expected a fraction in [0, 1]");
+  }
+  check_vertices_on_faces(c, g, blk, b, first_face, base, tol);
+  c.finite(g.volume[b], At{"/geometry/volume", block});
+  if (!(g.volume[b] > 0))
+    c.fail(at("/geometry/volume", block) + " is " + num(g.volume[b]) +
+           "; a block has positive volume");
+  c.finite(g.centroid[b], At{"/geometry/centroid", block});
+  for (const double x : g.inertia[b])
+    if (!std::isfinite(x))
+      c.fail(at("/geometry/inertia", block) + " is " + row_text(g.inertia[b].data(), 6));
+  if (std::string why = geometry_value_problem(g, blk, b, first_face, base, tol, section);
+      !why.empty())
+    c.fail(why);
+}
 }  // namespace
 
 // The geometry `g` of the n blocks from base.block on (all of /geometry if base is zero and n
 // the block count) against the blocks it describes: CSR shapes, indices, finite and positive
 // values.
 void check_geometry(const Checker& c, const BlockSystem& bs, const Geometry& g,
-                    const GeometryBase& base, std::size_t n, double tol) {
+                    const GeometryBase& base, std::size_t n, double tol, bool concurrent) {
   SLICE_ASSERT(base.block + n <= bs.blocks.size());
   const std::size_t faces = face_count(std::span(bs.blocks).subspan(base.block, n));
   const auto rows = [&](const std::string& name, std::size_t got, std::size_t want,
@@ -97,48 +142,14 @@ void check_geometry(const Checker& c, const BlockSystem& bs, const Geometry& g,
   for (std::size_t v = 0; v < g.vertices.size(); ++v)
     c.finite(g.vertices[v], At{"/geometry/vertices", std::size_t(base.vertex) + v});
   const bool section = bs.joints.dimension == 2;
-  std::size_t face = 0;
-  for (std::size_t b = 0; b < n; ++b) {
-    const std::size_t block = base.block + b;  // the file's row
-    const Block& blk = bs.blocks[block];
-    const std::int64_t nv = g.vertex_offset[b + 1] - g.vertex_offset[b];
-    const std::size_t first_face = face;
-    for (std::size_t f = 0; f < blk.faces.size(); ++f, ++face) {
-      const std::size_t file_face = base.face + face;
-      const auto lo = static_cast<std::size_t>(g.face_vertex_offset[face]);
-      const auto hi = static_cast<std::size_t>(g.face_vertex_offset[face + 1]);
-      // A 2-D block's face is an edge: its two ends (docs/2d.md).
-      if (section ? hi - lo != 2 : hi - lo < 3)
-        c.fail(at("/geometry/face_vertex_offset", file_face) + " gives face " + str(file_face) +
-               " " + str(hi - lo) + " vertices; a face has " +
-               (section ? "2 in a 2-D file (an edge)" : "at least 3"));
-      for (std::size_t k = lo; k < hi; ++k)
-        if (g.face_vertices[k] < 0 || g.face_vertices[k] >= nv)
-          c.fail(at("/geometry/face_vertices", std::size_t(base.face_vertex) + k) + " is " +
-                 str(g.face_vertices[k]) + "; expected an index into block " + str(block) + "'s " +
-                 str(nv) + " vertices");
-      c.finite(g.face_area[face], At{"/geometry/face_area", file_face});
-      if (!(g.face_area[face] > 0))
-        c.fail(at("/geometry/face_area", file_face) + " is " + num(g.face_area[face]) +
-               "; a face has positive area");
-      const double fr = g.face_joint_fraction[face];
-      if (!(fr >= 0 && fr <= 1))
-        c.fail(at("/geometry/face_joint_fraction", file_face) + " is " + num(fr) +
-               "; expected a fraction in [0, 1]");
-    }
-    check_vertices_on_faces(c, g, blk, b, first_face, base, tol);
-    c.finite(g.volume[b], At{"/geometry/volume", block});
-    if (!(g.volume[b] > 0))
-      c.fail(at("/geometry/volume", block) + " is " + num(g.volume[b]) +
-             "; a block has positive volume");
-    c.finite(g.centroid[b], At{"/geometry/centroid", block});
-    for (const double x : g.inertia[b])
-      if (!std::isfinite(x))
-        c.fail(at("/geometry/inertia", block) + " is " + row_text(g.inertia[b].data(), 6));
-    if (std::string why = geometry_value_problem(g, blk, b, first_face, base, tol, section);
-        !why.empty())
-      c.fail(why);
-  }
+  check_runs(
+      std::span(bs.blocks).subspan(base.block, n),
+      [&](std::size_t lo, std::size_t hi, std::size_t first_face) {
+        std::size_t face = first_face;
+        for (std::size_t b = lo; b < hi; ++b)
+          check_block_geometry(c, bs, g, base, tol, section, b, face);
+      },
+      concurrent);
 }
 
 // All of /geometry against the blocks.

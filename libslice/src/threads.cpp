@@ -1,0 +1,14 @@
+#include "slice/threads.hpp"
+
+#include <oneapi/tbb/task_arena.h>
+
+#include "threads.hpp"
+
+namespace slice {
+
+void with_threads(int threads, const std::function<void()>& body) {
+  tbb::task_arena arena(thread_count(threads));
+  arena.execute(body);
+}
+
+}  // namespace slice
