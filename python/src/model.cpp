@@ -16,6 +16,7 @@
 #include "slice/cut.hpp"
 #include "slice/error.hpp"
 #include "slice/export_yade.hpp"
+#include "slice/shape.hpp"
 #include "slice/vertices.hpp"
 
 namespace rockslice {
@@ -213,6 +214,33 @@ py::tuple polygons_of(const Model& m) {
   return py::make_tuple(owned(std::move(offset)), owned(std::move(corners), 3));
 }
 
+// The block shape factors of every block (docs/block-shape.md) as columns: alpha, beta (MBSCT's
+// elongation index), beta_k (Kalenchuk's, as UnBlocks-gen's paper states it), class (MBSCT's
+// classes) and class_kalenchuk (UnBlocks-gen's classes on alpha and beta_k); NaN / 'none' where
+// undefined. Removed blocks included, in the model's block order, as slice-info computes them.
+py::dict shapes_of(const py::handle& h) {
+  const Model& m = self_of(h);
+  const slice::Geometry& g = geometry_of(h, true, "block shapes");
+  const auto shapes = slice::block_shapes(m.bs->blocks, g, m.bs->joints.dimension);
+  std::vector<double> alpha, beta, beta_k;
+  py::list cls, cls_k;
+  for (const slice::BlockShape& s : shapes) {
+    alpha.push_back(s.alpha);
+    beta.push_back(s.beta);
+    beta_k.push_back(s.beta_k);
+    cls.append(slice::to_string(s.shape));
+    cls_k.append(slice::to_string(s.shape_k));
+  }
+  const py::object array = py::module_::import("numpy").attr("array");
+  py::dict d;
+  d["alpha"] = owned(std::move(alpha));
+  d["beta"] = owned(std::move(beta));
+  d["beta_k"] = owned(std::move(beta_k));
+  d["class"] = array(cls, "U4");
+  d["class_kalenchuk"] = array(cls_k, "U4");
+  return d;
+}
+
 // The rows of the exported YADE script's BLOCKS list (export_yade.hpp's rules: removed blocks
 // left out, fixed by slice::is_fixed, friction by slice::block_friction_deg), for
 // rockslice.yade: (block, fixed, friction [deg], cluster, volume, centroid, vertices); a
@@ -376,6 +404,12 @@ vertices). The names are those of the HDF5 datasets (docs/python.md).)");
   c.def_property_readonly("face_joint_fraction", [](py::handle h) {
     return view_vector<double>(h, geometry_of(h, true, "face joint fractions").face_joint_fraction);
   });
+  c.def_property_readonly(
+      "shape", &shapes_of,
+      "the block shape factors per block (docs/block-shape.md), a dict of columns: alpha, beta "
+      "(MBSCT's elongation index, 0..1), beta_k (Kalenchuk's beta, 10/9..10), class (MBSCT's "
+      "classes: 'C', 'PC', 'P', 'CE', 'EP', 'E', 'none') and class_kalenchuk (UnBlocks-gen's "
+      "classes on alpha and beta_k); computed on each call, removed blocks included; 3-D only");
 
   // Joints: views of the joint array; the polygons and the sets as arrays made here.
   using J = slice::Joint;
