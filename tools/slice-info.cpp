@@ -123,13 +123,17 @@ ordered_json describe_shapes(const slice::BlockSystem& bs) {
     volume += keep[b] ? g.volume[b] : 0;
   }
   const auto shapes = slice::block_shapes(bs.blocks, g, bs.joints.dimension);
-  const slice::ShapeSummary s = slice::summarise_shapes(shapes, g.volume, keep);
-  ordered_json by_class = ordered_json::array();
-  for (std::size_t c = 0; c < slice::kShapeClasses.size(); ++c)
-    by_class.push_back({{"class", slice::to_string(slice::kShapeClasses[c])},
-                        {"blocks", s.count[c]},
-                        {"volume", s.volume[c]},
-                        {"volume_fraction", volume > 0 ? s.volume[c] / volume : 0.0}});
+  // The kept blocks by class: MBSCT's classes (kalenchuk false) or UnBlocks-gen's on beta_k.
+  const auto by_class = [&](bool kalenchuk) {
+    const slice::ShapeSummary s = slice::summarise_shapes(shapes, g.volume, keep, kalenchuk);
+    ordered_json out = ordered_json::array();
+    for (std::size_t c = 0; c < slice::kShapeClasses.size(); ++c)
+      out.push_back({{"class", slice::to_string(slice::kShapeClasses[c])},
+                     {"blocks", s.count[c]},
+                     {"volume", s.volume[c]},
+                     {"volume_fraction", volume > 0 ? s.volume[c] / volume : 0.0}});
+    return out;
+  };
   // Kalenchuk's beta (UnBlocks-gen's eq. 5) beside the classes: its range over the kept blocks
   // where it is defined.
   std::size_t defined = 0;
@@ -142,17 +146,20 @@ ordered_json describe_shapes(const slice::BlockSystem& bs) {
       sum += shapes[b].beta_k;
     }
   const ordered_json beta_k =
-      defined == 0 ? ordered_json{{"blocks", 0}}
-                   : ordered_json{{"blocks", defined},
-                                  {"min", lo},
-                                  {"mean", sum / double(defined)},
-                                  {"max", hi}};
+      defined == 0
+          ? ordered_json{{"blocks", 0}}
+          : ordered_json{
+                {"blocks", defined}, {"min", lo}, {"mean", sum / double(defined)}, {"max", hi}};
   return {
       {"method", "alpha = A lbar / (7.7 V), beta = MBSCT elongation index: docs/block-shape.md"},
       {"blocks", kept},
       {"volume", volume},
-      {"by_class", by_class},
-      {"beta_kalenchuk", beta_k}};
+      {"by_class", by_class(false)},
+      {"beta_kalenchuk", beta_k},
+      {"method_kalenchuk",
+       "UnBlocks-gen's classes (plotTools.py: alpha 2, 3, 5; beta_k 4, 7) on alpha and "
+       "Kalenchuk's beta_k: docs/block-shape.md"},
+      {"by_class_kalenchuk", by_class(true)}};
 }
 
 void print_text(const ordered_json& j, const std::string& indent = "") {

@@ -112,9 +112,11 @@ int main(int argc, char** argv) {
         line += " (the mean plane's), " + std::to_string(s.joint_count) + " traces of " +
                 std::to_string(s.candidates) + " joints drawn in 3-D, P21 " +
                 tool::sig(s.achieved_p32, 6);
-        if (s.intensity == slice::SetIntensity::p32)
-          line +=
-              " (p32 x sin theta of the mean plane: " + tool::sig(s.p32 * tr.sin_angle, 6) + ")";
+        const std::string p21 =
+            "p32 x sin theta of the mean plane: " + tool::sig(s.p32 * tr.sin_angle, 6) + ")";
+        if (s.intensity == slice::SetIntensity::p32) line += " (" + p21;
+        if (s.intensity == slice::SetIntensity::p10)  // drawn as p32 = p10 / E|cos| (docs/2d.md)
+          line += " (p32 = p10 / E|cos| = " + tool::sig(s.p32, 6) + "; " + p21;
       }
       t.say(line);
     }

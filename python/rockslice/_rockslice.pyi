@@ -48,6 +48,8 @@ class Model:
     vertices: npt.NDArray[np.float64]
     face_vertex_offset: npt.NDArray[np.int64]
     face_vertices: npt.NDArray[np.int64]
+    # block shape factors: alpha, beta, beta_k, class, class_kalenchuk (docs/block-shape.md)
+    shape: dict[str, npt.NDArray[Any]]
     # joints and sets
     joint_count: int
     joint_normal: npt.NDArray[np.float64]

@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "slice/cut.hpp"
 #include "slice/error.hpp"
 #include "slice/export_yade.hpp"
+#include "slice/shape.hpp"
 #include "slice/vertices.hpp"
 
 namespace rockslice {
@@ -55,6 +57,15 @@ py::array owned(std::vector<T>&& v, std::size_t cols = 0) {
   py::capsule owner(held.get(), [](void* p) { delete static_cast<std::vector<T>*>(p); });
   held.release();  // the capsule owns it now
   return py::array_t<T>(shape, data, owner);
+}
+
+// One value per item, get(item), as an array handed to numpy (of get's return type).
+template <class Item, class F>
+py::array column(const std::vector<Item>& items, F get) {
+  std::vector<std::decay_t<std::invoke_result_t<F, const Item&>>> v;
+  v.reserve(items.size());
+  for (const Item& i : items) v.push_back(get(i));
+  return owned(std::move(v));
 }
 
 Model& self_of(const py::handle& h) { return h.cast<Model&>(); }
@@ -129,73 +140,65 @@ py::array joint_field(const py::handle& h, const T* (*field)(const slice::Joint&
 // has trace_window False, count 0 and NaN statistics. mapped_mean / mapped_sd: the trace lengths
 // mapped there, NaN when not given.
 void add_trace_columns(py::dict& d, const std::vector<slice::JointSetSpec>& sets) {
+  using Set = slice::JointSetSpec;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  std::vector<bool> window;
-  std::vector<std::int64_t> count, censored;
-  std::vector<double> mean, sd, complete, p21, mapped_mean, mapped_sd;
-  for (const auto& s : sets) {
-    const slice::TraceStats& t = s.traces;
-    const bool given = s.mapping.given;
-    window.push_back(given);
-    count.push_back(given ? t.count : 0);
-    for (const std::int64_t c : t.censored) censored.push_back(given ? c : 0);
-    mean.push_back(given ? t.mean : nan);
-    sd.push_back(given ? t.sd : nan);
-    complete.push_back(given ? t.complete_mean : nan);
-    p21.push_back(given ? t.p21 : nan);
-    mapped_mean.push_back(given && s.mapping.field_mean > 0 ? s.mapping.field_mean : nan);
-    mapped_sd.push_back(given && s.mapping.field_sd > 0 ? s.mapping.field_sd : nan);
+  py::array_t<bool> w(py::ssize_t(sets.size()));
+  std::vector<std::int64_t> censored;
+  for (std::size_t i = 0; i < sets.size(); ++i) {
+    const bool given = sets[i].mapping.given;
+    w.mutable_at(py::ssize_t(i)) = given;
+    for (const std::int64_t c : sets[i].traces.censored) censored.push_back(given ? c : 0);
   }
-  py::array_t<bool> w(py::ssize_t(window.size()));
-  for (std::size_t i = 0; i < window.size(); ++i) w.mutable_at(py::ssize_t(i)) = window[i];
+  // A statistic of the traces where the set has a window, else `none`.
+  const auto traced = [](auto get, auto none) {
+    return [=](const Set& s) { return s.mapping.given ? get(s.traces) : none; };
+  };
+  using T = slice::TraceStats;
   d["trace_window"] = w;
-  d["trace_count"] = owned(std::move(count));
+  d["trace_count"] = column(sets, traced([](const T& t) { return t.count; }, std::int64_t{0}));
   d["trace_censored"] = owned(std::move(censored), 3);
-  d["trace_mean"] = owned(std::move(mean));
-  d["trace_sd"] = owned(std::move(sd));
-  d["trace_complete_mean"] = owned(std::move(complete));
-  d["trace_p21"] = owned(std::move(p21));
-  d["mapped_mean"] = owned(std::move(mapped_mean));
-  d["mapped_sd"] = owned(std::move(mapped_sd));
+  d["trace_mean"] = column(sets, traced([](const T& t) { return t.mean; }, nan));
+  d["trace_sd"] = column(sets, traced([](const T& t) { return t.sd; }, nan));
+  d["trace_complete_mean"] = column(sets, traced([](const T& t) { return t.complete_mean; }, nan));
+  d["trace_p21"] = column(sets, traced([](const T& t) { return t.p21; }, nan));
+  // The mapped trace lengths, NaN where not given (0).
+  const auto mapped = [nan](double slice::TraceMapping::*field) {
+    return [=](const Set& s) {
+      return s.mapping.given && s.mapping.*field > 0 ? s.mapping.*field : nan;
+    };
+  };
+  d["mapped_mean"] = column(sets, mapped(&slice::TraceMapping::field_mean));
+  d["mapped_sd"] = column(sets, mapped(&slice::TraceMapping::field_sd));
 }
 
 // The joint sets ([[sets]] entries) as columns.
 py::dict sets_of(const Model& m) {
+  using Set = slice::JointSetSpec;
   const auto& sets = m.bs->joints.sets;
   py::dict d;
   py::list names, intensity, kind;
-  std::vector<double> dip, dipdir, spacing, offset, friction, cohesion, tension, p32, p10, kappa;
-  std::vector<std::int64_t> count;
   for (const auto& s : sets) {
     names.append(s.name);
     intensity.append(slice::to_string(s.intensity));
     kind.append(slice::to_string(s.kind));
-    dip.push_back(s.dip_deg);
-    dipdir.push_back(s.dip_direction_deg);
-    spacing.push_back(s.spacing);
-    offset.push_back(s.offset);
-    friction.push_back(s.friction_angle_deg);
-    cohesion.push_back(s.cohesion);
-    tension.push_back(s.tension);
-    kappa.push_back(s.fisher_kappa);
-    p32.push_back(s.achieved_p32);
-    p10.push_back(s.achieved_p10);
-    count.push_back(s.joint_count);
   }
+  const auto of = [&](auto Set::*field) {
+    return column(sets, [=](const Set& s) { return s.*field; });
+  };
   d["name"] = names;
   d["kind"] = kind;
   d["intensity"] = intensity;
-  d["dip"] = owned(std::move(dip));
-  d["dip_direction"] = owned(std::move(dipdir));
-  d["spacing"] = owned(std::move(spacing));
-  d["offset"] = owned(std::move(offset));
-  d["friction_angle"] = owned(std::move(friction));
-  d["cohesion"] = owned(std::move(cohesion));
-  d["tension"] = owned(std::move(tension));
-  d["fisher_kappa"] = owned(std::move(kappa));
-  d["joint_count"] = owned(std::move(count));
-  d["achieved_p32"] = owned(std::move(p32));
-  d["achieved_p10"] = owned(std::move(p10));
+  d["dip"] = of(&Set::dip_deg);
+  d["dip_direction"] = of(&Set::dip_direction_deg);
+  d["spacing"] = of(&Set::spacing);
+  d["offset"] = of(&Set::offset);
+  d["friction_angle"] = of(&Set::friction_angle_deg);
+  d["cohesion"] = of(&Set::cohesion);
+  d["tension"] = of(&Set::tension);
+  d["fisher_kappa"] = of(&Set::fisher_kappa);
+  d["joint_count"] = of(&Set::joint_count);
+  d["achieved_p32"] = of(&Set::achieved_p32);
+  d["achieved_p10"] = of(&Set::achieved_p10);
   add_trace_columns(d, sets);
   return d;
 }
@@ -211,6 +214,30 @@ py::tuple polygons_of(const Model& m) {
     offset.push_back(std::int64_t(corners.size() / 3));
   }
   return py::make_tuple(owned(std::move(offset)), owned(std::move(corners), 3));
+}
+
+// The block shape factors of every block (docs/block-shape.md) as columns: alpha, beta (MBSCT's
+// elongation index), beta_k (Kalenchuk's, as UnBlocks-gen's paper states it), class (MBSCT's
+// classes) and class_kalenchuk (UnBlocks-gen's classes on alpha and beta_k); NaN / 'none' where
+// undefined. Removed blocks included, in the model's block order, as slice-info computes them.
+py::dict shapes_of(const py::handle& h) {
+  const Model& m = self_of(h);
+  const slice::Geometry& g = geometry_of(h, true, "block shapes");
+  using S = slice::BlockShape;
+  const auto shapes = slice::block_shapes(m.bs->blocks, g, m.bs->joints.dimension);
+  py::list cls, cls_k;
+  for (const S& s : shapes) {
+    cls.append(slice::to_string(s.shape));
+    cls_k.append(slice::to_string(s.shape_k));
+  }
+  const py::object array = py::module_::import("numpy").attr("array");
+  py::dict d;
+  d["alpha"] = column(shapes, [](const S& s) { return s.alpha; });
+  d["beta"] = column(shapes, [](const S& s) { return s.beta; });
+  d["beta_k"] = column(shapes, [](const S& s) { return s.beta_k; });
+  d["class"] = array(cls, "U4");
+  d["class_kalenchuk"] = array(cls_k, "U4");
+  return d;
 }
 
 // The rows of the exported YADE script's BLOCKS list (export_yade.hpp's rules: removed blocks
@@ -376,6 +403,12 @@ vertices). The names are those of the HDF5 datasets (docs/python.md).)");
   c.def_property_readonly("face_joint_fraction", [](py::handle h) {
     return view_vector<double>(h, geometry_of(h, true, "face joint fractions").face_joint_fraction);
   });
+  c.def_property_readonly(
+      "shape", &shapes_of,
+      "the block shape factors per block (docs/block-shape.md), a dict of columns: alpha, beta "
+      "(MBSCT's elongation index, 0..1), beta_k (Kalenchuk's beta, 10/9..10), class (MBSCT's "
+      "classes: 'C', 'PC', 'P', 'CE', 'EP', 'E', 'none') and class_kalenchuk (UnBlocks-gen's "
+      "classes on alpha and beta_k); computed on each call, removed blocks included; 3-D only");
 
   // Joints: views of the joint array; the polygons and the sets as arrays made here.
   using J = slice::Joint;

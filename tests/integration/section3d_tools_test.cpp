@@ -4,6 +4,7 @@
 // and refuses a 3-D file naming it.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -51,6 +52,19 @@ std::string run_section(const test::TempDir& tmp, const std::string& text) {
     REQUIRE(r.exit_code == 0);
   }
   return geom;
+}
+
+// slice-joints run again on run_section's s.toml with the same command line (the provenance
+// records it): it writes the same joints.h5 bytes. Its run, for its messages.
+test::ToolRun rerun_joints(const test::TempDir& tmp) {
+  const std::string first = test::read_bytes(tmp / "joints.h5");
+  const auto again = (tmp / "joints.h5").string();
+  test::fs::remove(again);
+  auto r = run_tool("slice-joints", {(tmp / "s.toml").string(), "-o", again});
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(test::read_bytes(again) == first);
+  return r;
 }
 
 std::string tunnel_scene(const std::string& tunnel, bool cut) {
@@ -215,10 +229,14 @@ TEST_CASE("slice-joints refuses a bad section or 2-D tunnel with its line",
       {"a 2-D tunnel off its centre",
        head + "[[zones]]\ntunnel = { point = [5, 5], outline = [[1, 1], [2, 1], [2, 2]] }\n",
        {":9", "star-shaped"}},
-      {"a stochastic 3-D set by count",
-       head + "[[sets]]\ndip = 60\ndip_direction = 10\ncount = 50\n"
+      {"a p10 3-D set with a scanline (its p10 counts along its mean pole)",
+       head + "[[sets]]\ndip = 60\ndip_direction = 10\np10 = 0.5\n"
+              "scanline = { from = [1, 0, 1], to = [19, 0, 9] }\n"
               "size = { distribution = \"fixed\", value = 2 }\n",
-       {":11", "'count'", "thickness of the slab", "density"}},
+       {":12", "'scanline'", "mean pole", "remove 'scanline'"}},
+      {"a count 3-D set without a size",
+       head + "[[sets]]\ndip = 60\ndip_direction = 10\ncount = 50\n",
+       {":11", "needs a size", "segments"}},
       {"a stochastic 3-D set without a size",
        head + "[[sets]]\ndip = 60\ndip_direction = 10\ndensity = 0.01\n",
        {":11", "needs a size", "segments"}},
@@ -243,15 +261,9 @@ TEST_CASE("a stochastic 3-D set in a section: its traces, reproducible byte for 
       "size = { distribution = \"lognormal\", mean = 5, sd = 2 }\nfisher_kappa = 25\n"
       "[[sets]]\nname = \"bedding\"\ndip = 25\ndip_direction = 60\nspacing = 3\n";
   const std::string geom = run_section(tmp, scene);
-  // Run again with the same command line (the provenance records it): the same bytes.
-  const std::string first = test::read_bytes(tmp / "joints.h5");
-  const auto again = (tmp / "joints.h5").string();
-  test::fs::remove(again);
-  const auto r = run_tool("slice-joints", {(tmp / "s.toml").string(), "-o", again});
+  const auto r = rerun_joints(tmp);
   INFO(r.err);
-  REQUIRE(r.exit_code == 0);
-  CHECK(test::read_bytes(again) == first);
-  const slice::JointSystem js = slice::read_joints(again);
+  const slice::JointSystem js = slice::read_joints((tmp / "joints.h5").string());
   REQUIRE(js.sets.size() == 2);
   const std::int64_t traces = js.sets[0].joint_count;
   CHECK(traces > 50);
@@ -265,6 +277,45 @@ TEST_CASE("a stochastic 3-D set in a section: its traces, reproducible byte for 
   CHECK(bs.blocks.size() > 100);
   // The blocks tile the section: their areas add up to the domain's, 40 x 30.
   const slice::BlockSystem g = slice::read_blocks(geom);
+  double area = 0;
+  for (const double v : g.geometry->volume) area += v;
+  CHECK_THAT(area, WithinRel(1200, 1e-9));
+}
+
+TEST_CASE("count and p10 3-D sets in a section: count traces, p10 drawn as its P32, cut",
+          "[tools][section3d]") {
+  // count: that many traces in the section; p10 (joints per unit length along the mean pole in
+  // 3-D): drawn as p32 = p10 / E|cos| (docs/2d.md), which slice-joints prints and /sets keeps.
+  test::TempDir tmp;
+  const std::string scene =
+      "[scene]\nname = \"cp\"\ndimension = 2\nseed = 5\n[section]\npoint = [0, 0, 0]\n"
+      "strike = 30\n[domain]\nbox = { min = [-20, 0], max = [20, 30] }\n"
+      "[[sets]]\nname = \"by-p10\"\ndip = 70\ndip_direction = 250\np10 = 0.5\n"
+      "size = { distribution = \"lognormal\", mean = 5, sd = 2 }\nfisher_kappa = 25\n"
+      "[[sets]]\nname = \"by-count\"\ndip = 25\ndip_direction = 60\ncount = 40\n"
+      "size = { distribution = \"fixed\", value = 6 }\nshape = \"rectangle\"\naspect = 2\n";
+  const std::string geom = run_section(tmp, scene);
+  const auto r = rerun_joints(tmp);
+  INFO(r.err);
+  const slice::JointSystem js = slice::read_joints((tmp / "joints.h5").string());
+  REQUIRE(js.sets.size() == 2);
+  // p10 0.5 with kappa 25: E|cos| = 1 - tanh(12.5) / 25 = 0.96, p32 = 0.5 / 0.96.
+  const double p32 = 0.5 / (1 - std::tanh(12.5) / 25);
+  CHECK(js.sets[0].intensity == slice::SetIntensity::p10);
+  CHECK_THAT(js.sets[0].p32, WithinRel(p32, 1e-12));
+  CHECK(js.sets[0].joint_count > 20);
+  char printed[32];
+  std::snprintf(printed, sizeof printed, "%.6g", p32);  // as slice-joints prints it
+  CHECK_THAT(r.err, Contains(std::string("(p32 = p10 / E|cos| = ") + printed +
+                             "; p32 x sin theta of the mean plane: "));
+  CHECK(js.sets[1].intensity == slice::SetIntensity::count);
+  CHECK(js.sets[1].joint_count == 40);
+  CHECK_THAT(r.err, Contains("set \"by-count\" (dip 25, dip direction 60) in the section (strike "
+                             "30): apparent dip "));
+  CHECK_THAT(r.err, Contains(", 40 traces of "));
+  // The blocks tile the section: their areas add up to the domain's, 40 x 30.
+  const slice::BlockSystem g = slice::read_blocks(geom);
+  CHECK(g.blocks.size() > 40);
   double area = 0;
   for (const double v : g.geometry->volume) area += v;
   CHECK_THAT(area, WithinRel(1200, 1e-9));

@@ -73,6 +73,7 @@ TEST_CASE("a cube: alpha 0.99904, beta 1/4, class C", "[block-shape]") {
   // space diagonals (+-1, +-1, +-1); T = sum d d^T = 4 I, |T|_F^2 = 48, (tr T)^2 = 144:
   // beta_k = 10 (1/3)^2 = 10/9.
   CHECK_THAT(s.beta_k, WithinRel(10.0 / 9, 1e-14));
+  CHECK(s.shape_k == ShapeClass::C);  // UnBlocks-gen's classes: alpha < 2, beta_k < 4
 }
 
 TEST_CASE("plates and a rod: alpha and beta by hand", "[block-shape]") {
@@ -90,6 +91,7 @@ TEST_CASE("plates and a rod: alpha and beta by hand", "[block-shape]") {
     const double r = 1280016.0 / 2572816;
     CHECK_THAT(s.beta_k, WithinRel(10 * r * r, 1e-13));
     CHECK_THAT(s.beta_k, WithinAbs(2.4752, 1e-4));
+    CHECK(s.shape_k == ShapeClass::PC);  // 2 <= alpha < 5, beta_k < 4
   }
   SECTION("a 20 x 20 x 1 plate: class P") {
     const auto s = shape_of(box(20, 20, 1));
@@ -112,6 +114,7 @@ TEST_CASE("plates and a rod: alpha and beta by hand", "[block-shape]") {
     const double r = 1440128.0 / 1478656;
     CHECK_THAT(s.beta_k, WithinRel(10 * r * r, 1e-13));
     CHECK_THAT(s.beta_k, WithinAbs(9.4857, 1e-4));
+    CHECK(s.shape_k == ShapeClass::E);  // beta_k >= 7
   }
   SECTION("a 1 x 2 x 4 brick lies between") {
     const auto s = shape_of(box(1, 2, 4));
@@ -134,6 +137,7 @@ TEST_CASE("non-orthogonal polyhedra: a regular tetrahedron and octahedron", "[bl
     CHECK_THAT(s.beta, WithinAbs(0.25, 1e-14));
     CHECK(s.shape == ShapeClass::C);
     CHECK(std::isnan(s.beta_k));  // no chord longer than the median: all are equal
+    CHECK(s.shape_k == ShapeClass::none);
   }
   SECTION("octahedron: beta 0 (two chords from a corner at right angles)") {
     // Vertices +-e_i: 12 edges sqrt 2, 3 diagonals 2; A = 8 (sqrt 3 / 4) 2 = 4 sqrt 3, V = 4/3.
@@ -234,6 +238,32 @@ TEST_CASE("shape classes: the diagram's boundaries", "[block-shape]") {
   CHECK(std::string(slice::to_string(ShapeClass::none)) == "none");
 }
 
+TEST_CASE("UnBlocks-gen's classes on Kalenchuk's beta: plotTools.py's boundaries",
+          "[block-shape]") {
+  // plotTools.py, BlockShapeDistribution: C alpha < 2 and beta < 4; PC 2 <= alpha < 5; P alpha
+  // >= 5; CE alpha < 3 and 4 <= beta < 7; EP alpha >= 3 there; E beta >= 7.
+  using slice::kalenchuk_class;
+  CHECK(kalenchuk_class(1.0, 10.0 / 9) == ShapeClass::C);
+  CHECK(kalenchuk_class(1.99, 3.99) == ShapeClass::C);
+  CHECK(kalenchuk_class(2.0, 3.99) == ShapeClass::PC);
+  CHECK(kalenchuk_class(4.99, 1.0) == ShapeClass::PC);
+  CHECK(kalenchuk_class(5.0, 1.0) == ShapeClass::P);
+  CHECK(kalenchuk_class(1.0, 4.0) == ShapeClass::CE);
+  CHECK(kalenchuk_class(2.99, 6.99) == ShapeClass::CE);
+  CHECK(kalenchuk_class(3.0, 4.0) == ShapeClass::EP);
+  CHECK(kalenchuk_class(9.0, 6.99) == ShapeClass::EP);
+  CHECK(kalenchuk_class(1.0, 7.0) == ShapeClass::E);
+  CHECK(kalenchuk_class(9.0, 10.0) == ShapeClass::E);
+  CHECK(kalenchuk_class(1.0, std::nan("")) == ShapeClass::none);
+  CHECK(kalenchuk_class(std::nan(""), 2.0) == ShapeClass::none);
+  // A 1 x 2 x 4 brick: beta_k 4.97 (CE), a 20 x 20 x 1 plate: alpha 5.6 (P); a regular
+  // tetrahedron has no beta_k (none).
+  const auto brick = shape_of(box(1, 2, 4));
+  CHECK_THAT(brick.beta_k, WithinAbs(4.9718, 1e-4));
+  CHECK(brick.shape_k == ShapeClass::CE);
+  CHECK(shape_of(box(20, 20, 1)).shape_k == ShapeClass::P);
+}
+
 TEST_CASE("block_shape and block_shapes refuse what has no shape", "[block-shape]") {
   const Solid c = box(1, 1, 1);
   const std::vector<Vec3> three(c.vertices.begin(), c.vertices.begin() + 3);
@@ -265,4 +295,15 @@ TEST_CASE("summarise_shapes: counts and volumes by class, kept blocks only", "[b
   CHECK(kept.count[0] == 1);
   CHECK(kept.volume[0] == 1);
   CHECK(kept.count[2] == 0);
+  // By UnBlocks-gen's classes on beta_k (shape_k) instead.
+  auto k = shapes;
+  k[0].shape_k = k[2].shape_k = ShapeClass::CE;
+  k[1].shape_k = ShapeClass::E;
+  k[3].shape_k = ShapeClass::PC;
+  const auto byk = slice::summarise_shapes(k, vol, {}, true);
+  CHECK(byk.count[0] == 0);
+  CHECK(byk.count[3] == 2);
+  CHECK(byk.volume[3] == 4);
+  CHECK(byk.volume[1] == 4);
+  CHECK(byk.volume[5] == 2);
 }

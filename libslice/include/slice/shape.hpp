@@ -39,6 +39,12 @@ const char* to_string(ShapeClass c);  // "C", "PC", ..., "none"
 /// beta <= 0.3: C if alpha <= 2, PC if alpha <= 5, else P.
 ShapeClass shape_class(double alpha, double beta);
 
+/// The classes of UnBlocks-gen's diagram (install/plotTools.py, BlockShapeDistribution), on
+/// Kalenchuk's beta (BlockShape::beta_k, 1 .. 10): beta_k >= 7 E; 4 <= beta_k < 7: CE if
+/// alpha < 3, else EP; beta_k < 4: C if alpha < 2, PC if alpha < 5, else P. `none` if either is
+/// NaN (docs/block-shape.md).
+ShapeClass kalenchuk_class(double alpha, double beta_k);
+
 struct BlockShape {
   double alpha = 0;
   double beta = 0;  // MBSCT's elongation index, 0 .. 1; NaN when undefined (class none)
@@ -48,6 +54,7 @@ struct BlockShape {
   // the median chord, a = b included; 10/9 for a cube (or any isotropic set of long chords) up to
   // 10 for a rod. NaN when no chord is longer than the median (a regular tetrahedron).
   double beta_k = 0;
+  ShapeClass shape_k = ShapeClass::none;  // kalenchuk_class(alpha, beta_k)
 };
 
 /// The shape of one convex polyhedron from its vertices (any frame: only differences count),
@@ -65,13 +72,14 @@ std::vector<BlockShape> block_shapes(const std::vector<Block>& blocks, const Geo
                                      int dimension = 3);
 
 /// Counts and volumes by class (index: position in kShapeClasses), of the blocks `keep` selects
-/// (all if empty).
+/// (all if empty); by BlockShape::shape (MBSCT's classes), or by BlockShape::shape_k
+/// (UnBlocks-gen's classes on Kalenchuk's beta) if `kalenchuk`.
 struct ShapeSummary {
   std::array<std::size_t, 7> count{};
   std::array<double, 7> volume{};
 };
 ShapeSummary summarise_shapes(const std::vector<BlockShape>& shapes,
-                              const std::vector<double>& volume,
-                              const std::vector<bool>& keep = {});
+                              const std::vector<double>& volume, const std::vector<bool>& keep = {},
+                              bool kalenchuk = false);
 
 }  // namespace slice

@@ -5,6 +5,7 @@
 // set, drawn in a fixed order; GSL stays inside stochastic.cpp.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -94,22 +95,33 @@ double expected_candidates(const JointSetSpec& s, const DomainBox& region);
 /// p32 x volume (the last joint kept only if that brings the area closer to the target);
 /// round(p10 x length) joints crossing the scanline. spec's scanline must be set. Fills spec's
 /// stream_seed, enlargement and candidates. Throws Error(where, ...) when more than max_joints
-/// candidates would be drawn.
+/// candidates would be drawn. `keep`, if given, drops the joints it refuses as if they missed
+/// the domain (they count towards no target); the draws stay the same.
 std::vector<Joint> generate_stochastic_set(JointSetSpec& spec, std::size_t index,
                                            std::uint64_t scene_seed, const DomainBox& domain,
-                                           std::int64_t max_joints, const std::string& where);
+                                           std::int64_t max_joints, const std::string& where,
+                                           const std::function<bool(const Joint&)>& keep = {});
 
-/// The joints of stochastic set `spec` (density or p32, with a size) of a 2-D scene with a
-/// section (docs/2d.md, "Stochastic sets in a section"): its 3-D joints, of the 3-D orientation
-/// `trace` gives (dip_deg, dip_direction_deg), drawn as generate_stochastic_set draws them in
-/// the slab of the 3-D region whose section is the domain: the points within the bounding
+/// E|cos theta|, theta the angle between a pole drawn from the Fisher distribution of
+/// concentration kappa (as a stochastic set draws it, on the whole sphere) and the mean pole:
+/// 1 - tanh(kappa / 2) / kappa; 1 for kappa = 0 (every pole at the mean), 1/2 as kappa -> 0+.
+/// A line along the mean pole crosses P32 x E|cos theta| joints per unit length.
+double fisher_mean_abs_cos(double kappa);
+
+/// The joints of stochastic set `spec` (density, p32, count or p10, with a size) of a 2-D scene
+/// with a section (docs/2d.md, "Stochastic sets in a section"): its 3-D joints, of the 3-D
+/// orientation `trace` gives (dip_deg, dip_direction_deg), drawn as generate_stochastic_set draws
+/// them in the slab of the 3-D region whose section is the domain: the points within the bounding
 /// radius of the set's largest joint (set_enlargement) of the section plane, where every joint
 /// that can reach the plane has its centre (the generator's own growth of the box adds the
 /// joints that only reach into the slab). So the intensity is the set's own (density per unit
-/// volume, p32 area per unit volume of the slab). Each joint's trace in the section plane that
-/// reaches into the domain by more than its tolerance becomes a 2-D joint: the segment, of the
-/// trace's apparent dip. `domain` is the 2-D scene's (its slab of unit thickness in y). Fills
-/// spec's stream_seed, enlargement and candidates (the 3-D joints drawn). Throws Error(where,
+/// volume, p32 area per unit volume of the slab). `count` joints are drawn until that many have
+/// a trace in the domain; `p10` (joints per unit length along the mean pole, in 3-D) is drawn
+/// as p32 = p10 / fisher_mean_abs_cos(kappa), which is stored in spec.p32. Each joint's trace in
+/// the section plane that reaches into the domain by more than its tolerance becomes a 2-D
+/// joint: the segment, of the trace's apparent dip. `domain` is the 2-D scene's (its slab of unit
+/// thickness in y). Fills spec's stream_seed, enlargement and candidates (the 3-D joints drawn).
+/// Throws Error(where,
 /// ...) as generate_stochastic_set does.
 std::vector<Joint> generate_section_set(JointSetSpec& spec, std::size_t index,
                                         std::uint64_t scene_seed, const SectionPlane& section,

@@ -79,6 +79,14 @@ ShapeClass shape_class(double alpha, double beta) {
   return alpha <= 5 ? ShapeClass::PC : ShapeClass::P;
 }
 
+ShapeClass kalenchuk_class(double alpha, double beta_k) {
+  if (std::isnan(alpha) || std::isnan(beta_k)) return ShapeClass::none;
+  if (beta_k >= 7) return ShapeClass::E;
+  if (beta_k >= 4) return alpha < 3 ? ShapeClass::CE : ShapeClass::EP;
+  if (alpha < 2) return ShapeClass::C;
+  return alpha < 5 ? ShapeClass::PC : ShapeClass::P;
+}
+
 namespace {
 
 // Kalenchuk's beta as UnBlocks-gen states it (Rasmussen 2020, SoftwareX 12:100577, eq. 5):
@@ -150,6 +158,7 @@ BlockShape block_shape(std::span<const Vec3> v, double surface_area, double volu
     }
   s.shape = shape_class(s.alpha, s.beta);
   s.beta_k = kalenchuk_beta(v, len, median, kLongTie * longest);
+  s.shape_k = kalenchuk_class(s.alpha, s.beta_k);
   return s;
 }
 
@@ -178,11 +187,12 @@ std::vector<BlockShape> block_shapes(const std::vector<Block>& blocks, const Geo
 }
 
 ShapeSummary summarise_shapes(const std::vector<BlockShape>& shapes,
-                              const std::vector<double>& volume, const std::vector<bool>& keep) {
+                              const std::vector<double>& volume, const std::vector<bool>& keep,
+                              bool kalenchuk) {
   ShapeSummary s;
   for (std::size_t b = 0; b < shapes.size(); ++b) {
     if (!keep.empty() && !keep[b]) continue;
-    const auto c = std::size_t(shapes[b].shape);
+    const auto c = std::size_t(kalenchuk ? shapes[b].shape_k : shapes[b].shape);
     ++s.count[c];
     s.volume[c] += volume.at(b);
   }

@@ -250,14 +250,22 @@ class FabReader {
     return set_of(*set, id);
   }
 
+  // Line k (from 0) of a fracture's n `item` lines ("node", "face"): its fields, and in `what`
+  // its name for messages ("node 3 of fracture 7"). Fails where the file ends before it.
+  std::vector<std::string_view> item_line(const char* item, std::int64_t k, std::int64_t n,
+                                          const std::string& id, std::string& what) {
+    what = std::string(item) + " " + std::to_string(k + 1) + " of fracture " + id;
+    if (!lines_.next())
+      lines_.fail_at_end("the file ends at " + what + " (of " + std::to_string(n) + ")",
+                         "check that the file is complete");
+    return lines_.fields();
+  }
+
   // The `n` node lines "k x y z" after a fracture's first line.
   void read_nodes(DfnFracture& f, std::int64_t n) {
+    std::string what;
     for (std::int64_t k = 0; k < n; ++k) {
-      const std::string what = "node " + std::to_string(k + 1) + " of fracture " + f.id;
-      if (!lines_.next())
-        lines_.fail_at_end("the file ends at " + what + " (of " + std::to_string(n) + ")",
-                           "check that the file is complete");
-      const auto v = lines_.fields();
+      const auto v = item_line("node", k, n, f.id, what);
       if (v.size() != 4)
         lines_.fail(what + " has " + std::to_string(v.size()) + " values; expected 4 (k x y z)" +
                         (v.size() == 3 || (f.tessellated && v.size() >= 5)
@@ -322,12 +330,9 @@ class FabReader {
     const std::int64_t faces = line_count(head[2], f.id, "face", 1, 10);  // "1 1 2 3 0\n"
     f.set = fracture_set(head[3], f.id);
     read_nodes(f, n);
+    std::string what;
     for (std::int64_t k = 0; k < faces; ++k) {
-      const std::string what = "face " + std::to_string(k + 1) + " of fracture " + f.id;
-      if (!lines_.next())
-        lines_.fail_at_end("the file ends at " + what + " (of " + std::to_string(faces) + ")",
-                           "check that the file is complete");
-      const auto v = lines_.fields();
+      const auto v = item_line("face", k, faces, f.id, what);
       if (v.size() < 5)
         lines_.fail(what + " has " + std::to_string(v.size()) +
                         " values; expected at least 5 (the face's number and its node indices, "

@@ -494,7 +494,9 @@ void read_regular(const Context& cx, const Tbl& t, JointSetSpec& s, const Sectio
 }
 
 // The intensity `in` of a stochastic set; `finite`: the set has a size.
-void read_stochastic_intensity(const Tbl& t, const toml::node& in, bool finite, JointSetSpec& s) {
+// traced: a 3-D set in a section, whose p10 counts along its mean pole in 3-D (no scanline).
+void read_stochastic_intensity(const Tbl& t, const toml::node& in, bool finite, JointSetSpec& s,
+                               bool traced) {
   const Reader& r = t.r;
   if (const toml::node* n = t.find("offset"))
     r.fail(*n, t.label("offset") + " applies to regular sets (spacing) only",
@@ -518,6 +520,16 @@ void read_stochastic_intensity(const Tbl& t, const toml::node& in, bool finite, 
       break;
     case SetIntensity::p10:
       s.p10 = positive(t, "p10", "give the number of joints per unit length of the scanline, > 0");
+      if (traced) {
+        if (s.scanline_given)
+          r.fail(*t.find("scanline"),
+                 t.label("scanline") +
+                     ": the p10 of a 3-D set in a section counts the joints along its mean pole "
+                     "in 3-D, not along a scanline",
+                 "remove 'scanline' (p10 is the number of joints per unit length along the "
+                 "set's mean pole, docs/2d.md), or give the set's intensity as p32 or density");
+        break;
+      }
       if (!s.scanline_given)
         t.require("scanline",
                   "add scanline = { from = [x, y, z], to = [x, y, z] }: p10 counts the joints "
@@ -645,24 +657,17 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
   s.intensity = static_cast<SetIntensity>(which);
   const std::string_view ikey = kIntensityKeys[which];
   check_section_dip(cx, t, c);
-  // In a section a 3-D set may be stochastic (density or p32, with a size): its joints' traces.
-  const bool traced =
-      cx.section && (s.intensity == SetIntensity::density || s.intensity == SetIntensity::p32);
+  // In a section a 3-D set may be stochastic (density, p32, count or p10, with a size): its
+  // joints' traces (docs/2d.md).
+  const bool traced = cx.section && s.intensity != SetIntensity::spacing;
   if (cx.dimension == 2 && !traced) {
     if (s.intensity != SetIntensity::spacing)
       r.fail(*t.find(ikey),
-             t.label(ikey) + ": a 2-D scene's sets are regular lines (spacing)" +
-                 (cx.section ? std::string(", and a 3-D set is traced in a section with spacing, "
-                                           "density or p32 (") +
-                                   std::string(ikey) +
-                                   (s.intensity == SetIntensity::count
-                                        ? " would depend on the thickness of the slab drawn)"
-                                        : " counts along a 3-D scanline)")
-                             : std::string(" unless the scene has a [section]")),
-             cx.section ? "give the set's intensity as density (joints per unit volume) or p32 "
-                          "(joint area per unit volume)"
-                        : "give spacing = <distance between the lines>, or the joints one by one "
-                          "as [[joints]] with segment = [[x1, z1], [x2, z2]]");
+             t.label(ikey) +
+                 ": a 2-D scene's sets are regular lines (spacing) unless the scene has a "
+                 "[section]",
+             "give spacing = <distance between the lines>, or the joints one by one as "
+             "[[joints]] with segment = [[x1, z1], [x2, z2]]");
     if (const toml::node* n = t.find("fisher_kappa"))
       r.fail(*n, t.label("fisher_kappa") + " is not available for a 2-D scene's regular set",
              "remove it: a 2-D set's lines share one orientation (a stochastic 3-D set in a "
@@ -694,7 +699,7 @@ JointSetSpec read_set(const Context& cx, const toml::table& tt, std::size_t inde
                ": a stochastic 3-D set in a section needs a size: its joints are "
                "discs or polygons, whose traces are segments",
            "add size = { distribution = ..., ... }, or give spacing for persistent planes");
-  read_stochastic_intensity(t, in, finite, s);
+  read_stochastic_intensity(t, in, finite, s, traced);
   read_joint_shape(t, finite, s);
   // A traced set draws in a slab of the 3-D region, not in the section's: the generator checks
   // its count (generate_section_set).

@@ -2,6 +2,7 @@
 // scene, and the trace of a 3-D plane orientation in it (apparent dip, spacing, offset).
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -49,6 +50,44 @@ double length_inside(const Vec3& a, const Vec3& b, const DomainBox& domain) {
   return t1 > t0 ? (t1 - t0) * (b - a).norm() : 0;
 }
 
+// The window of a section's traces: the domain's bounding rectangle in the plane y = 0.
+TraceMapping section_window(const DomainBox& domain) {
+  TraceMapping w;
+  w.centre = Vec3((domain.min.x() + domain.max.x()) / 2, 0, (domain.min.z() + domain.max.z()) / 2);
+  w.dip_deg = 90;
+  w.dip_direction_deg = 0;  // normal +y: u = +x, v = +z
+  w.width = domain.max.x() - domain.min.x() + 2 * domain.tol;
+  w.height = domain.max.z() - domain.min.z() + 2 * domain.tol;
+  return w;
+}
+
+// The 2-D joint of 3-D joint j3's trace on the section plane (y = 0), if it reaches into the
+// domain by more than its tolerance; its properties are left to the caller.
+std::optional<Joint> section_joint(const Joint& j3, const TraceMapping& w,
+                                   const DomainBox& domain) {
+  const std::optional<Trace> t = trace_on(j3, w, domain.tol);
+  if (!t) return std::nullopt;
+  const JointFrame wf = plane_frame(w.dip_deg, w.dip_direction_deg);
+  Vec3 a = wf.to_global(w.centre, t->a), b = wf.to_global(w.centre, t->b);
+  a.y() = b.y() = 0;
+  if (!(length_inside(a, b, domain) > domain.tol)) return std::nullopt;
+  Joint j;
+  const DipAndDirection dd =
+      dip_from_normal(Vec3(j3.plane.normal.x(), 0, j3.plane.normal.z()).normalized());
+  j.dip_deg = dd.dip_deg;
+  j.dip_direction_deg = dd.dip_direction_deg;
+  j.centre = (a + b) / 2;
+  // The normal from the stored angles, as readers of joints.h5 rebuild it.
+  const Vec3 m = scene_read::dip_normal(j.dip_deg, j.dip_direction_deg, 2);
+  j.plane = {m, m.dot(j.centre)};
+  j.polygon_uv =
+      scene_read::segment_polygon(plane_frame(j.dip_deg, j.dip_direction_deg), j.centre, a, b);
+  const std::vector<Vec2>& r = j.polygon_uv;  // counter-clockwise, as [[joints]] make it
+  if ((r[1] - r[0]).x() * (r[2] - r[1]).y() - (r[1] - r[0]).y() * (r[2] - r[1]).x() < 0)
+    std::reverse(j.polygon_uv.begin(), j.polygon_uv.end());
+  return j;
+}
+
 }  // namespace
 
 std::vector<Joint> generate_section_set(JointSetSpec& spec, std::size_t index,
@@ -64,6 +103,11 @@ std::vector<Joint> generate_section_set(JointSetSpec& spec, std::size_t index,
   JointSetSpec s3 = spec;
   s3.dip_deg = local.dip_deg;
   s3.dip_direction_deg = local.dip_direction_deg;
+  if (spec.intensity == SetIntensity::p10) {
+    // p10 along the mean pole in 3-D: a line there crosses P32 E|cos| joints per unit length.
+    s3.intensity = SetIntensity::p32;
+    s3.p32 = spec.p32 = spec.p10 / fisher_mean_abs_cos(spec.fisher_kappa);
+  }
   const double reach = set_enlargement(s3);
   SLICE_ASSERT(reach > 0);  // finite joints: the scene refuses a set without a size
   DomainBox slab = domain;
@@ -72,43 +116,24 @@ std::vector<Joint> generate_section_set(JointSetSpec& spec, std::size_t index,
   slab.min.y() = -reach;
   slab.max.y() = reach;
   slab.volume = domain.volume * 2 * reach;  // domain.volume: the section's area x 1
+  const TraceMapping w = section_window(domain);
+  // count: that many joints with a trace in the domain (the others are dropped as drawn).
+  std::function<bool(const Joint&)> traced;
+  if (spec.intensity == SetIntensity::count)
+    traced = [&](const Joint& j3) { return section_joint(j3, w, domain).has_value(); };
   const std::vector<Joint> drawn =
-      generate_stochastic_set(s3, index, scene_seed, slab, max_joints, where);
+      generate_stochastic_set(s3, index, scene_seed, slab, max_joints, where, traced);
   spec.stream_seed = s3.stream_seed;
   spec.enlargement = s3.enlargement;
   spec.candidates = s3.candidates;
 
   // Each joint's trace on the plane y = 0, over the domain's bounding rectangle.
-  TraceMapping w;
-  w.centre = Vec3((domain.min.x() + domain.max.x()) / 2, 0, (domain.min.z() + domain.max.z()) / 2);
-  w.dip_deg = 90;
-  w.dip_direction_deg = 0;  // normal +y: u = +x, v = +z
-  w.width = domain.max.x() - domain.min.x() + 2 * domain.tol;
-  w.height = domain.max.z() - domain.min.z() + 2 * domain.tol;
-  const JointFrame wf = plane_frame(w.dip_deg, w.dip_direction_deg);
   std::vector<Joint> out;
   for (const Joint& j3 : drawn) {
-    const std::optional<Trace> t = trace_on(j3, w, domain.tol);
-    if (!t) continue;
-    Vec3 a = wf.to_global(w.centre, t->a), b = wf.to_global(w.centre, t->b);
-    a.y() = b.y() = 0;
-    if (!(length_inside(a, b, domain) > domain.tol)) continue;
-    Joint j;
-    const DipAndDirection dd =
-        dip_from_normal(Vec3(j3.plane.normal.x(), 0, j3.plane.normal.z()).normalized());
-    j.dip_deg = dd.dip_deg;
-    j.dip_direction_deg = dd.dip_direction_deg;
-    j.centre = (a + b) / 2;
-    // The normal from the stored angles, as readers of joints.h5 rebuild it.
-    const Vec3 m = scene_read::dip_normal(j.dip_deg, j.dip_direction_deg, 2);
-    j.plane = {m, m.dot(j.centre)};
-    j.polygon_uv =
-        scene_read::segment_polygon(plane_frame(j.dip_deg, j.dip_direction_deg), j.centre, a, b);
-    const std::vector<Vec2>& r = j.polygon_uv;  // counter-clockwise, as [[joints]] make it
-    if ((r[1] - r[0]).x() * (r[2] - r[1]).y() - (r[1] - r[0]).y() * (r[2] - r[1]).x() < 0)
-      std::reverse(j.polygon_uv.begin(), j.polygon_uv.end());
-    scene_read::set_joint_properties(j, spec, static_cast<std::int32_t>(index));
-    out.push_back(std::move(j));
+    std::optional<Joint> j = section_joint(j3, w, domain);
+    if (!j) continue;
+    scene_read::set_joint_properties(*j, spec, static_cast<std::int32_t>(index));
+    out.push_back(std::move(*j));
   }
   return out;
 }

@@ -354,9 +354,15 @@ double expected_candidates(const JointSetSpec& s, const DomainBox& region) {
   return 0;
 }
 
+double fisher_mean_abs_cos(double kappa) {
+  if (!(kappa > 0)) return 1;
+  return 1 - std::tanh(kappa / 2) / kappa;
+}
+
 std::vector<Joint> generate_stochastic_set(JointSetSpec& spec, std::size_t index,
                                            std::uint64_t scene_seed, const DomainBox& domain,
-                                           std::int64_t max_joints, const std::string& where) {
+                                           std::int64_t max_joints, const std::string& where,
+                                           const std::function<bool(const Joint&)>& keep) {
   SLICE_ASSERT(spec.intensity != SetIntensity::spacing);
   const std::string set = "[[sets]] \"" + spec.name + "\"";
   const std::string fix_max = "lower the set's intensity, or raise max_joints in [scene] (now " +
@@ -448,7 +454,7 @@ std::vector<Joint> generate_stochastic_set(JointSetSpec& spec, std::size_t index
     scene_read::set_joint_properties(j, spec, static_cast<std::int32_t>(index));
     j.polygon_uv = joint_polygon(spec, size, rotation);
     const double a = area_inside(j, domain);
-    if (!(a > 0)) continue;
+    if (!(a > 0) || (keep && !keep(j))) continue;
     area += a;
     last_area = a;
     if (spec.intensity == SetIntensity::p10 && crosses_segment(j, line_a, line_b)) ++hits;
