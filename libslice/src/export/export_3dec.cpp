@@ -208,6 +208,9 @@ std::vector<Contact> find_contacts(const BlockSystem& bs, const JointSetIds& ids
         const Flat& o = flats[a];
         if (o.plus == f.plus || o.hi.y() <= f.lo.y() + tol || f.hi.y() <= o.lo.y() + tol) continue;
         if (!overlap(f, o, tol)) continue;
+        // A convex block has no two faces on one plane back to back: the readers refuse a face
+        // whose joint is not its plane's, so a contact of a block with itself is a defect here.
+        SLICE_ASSERT(f.block != o.block);
         const double area = overlap_area(f.xs, o.xs);
         const bool bridge = bridges && std::min(open_area(f.row), open_area(o.row)) < 0.5 * area;
         contacts.push_back({set_id + (bridge ? ids.count : 0), std::min(f.block, o.block),
