@@ -179,21 +179,26 @@ class Subdivision {
   std::size_t tested = 0;  // joint-block pairs past the index (to the cut LP or settled)
   std::array<std::size_t, 4> rejected{};  // pairs settled without the LP, by CutReject
 
+  /// The extremes of a split block (`parent`) that lie well inside the piece with new face
+  /// `plane` (both in the piece's frame): the piece has the same extremes there, without an LP.
+  static unsigned inherited(const CutContext& ctx, const Extremes& parent, const Plane& plane) {
+    unsigned bits = 0;
+    for (int k = 0; k < 6; ++k)
+      if (plane.distance(parent.x[std::size_t(k)]) < -ctx.tol.geometry) bits |= 1u << k;
+    return bits;
+  }
+
   /// Sets the bounding sphere of a block (the root's, before a subdivision starts) and `ext`,
-  /// moving its origin to the centre of its extents. A piece of a split block (`parent`: the
-  /// split block's extremes, `plane`: the piece's new face, both in the piece's frame) keeps
-  /// each extreme its parent reaches at a point well inside the piece (eq. 17's LPs for the
+  /// moving its origin to the centre of its extents. `v`: the extremes vertex_extremes found for
+  /// the directions not `kept`. A piece of a split block keeps the extremes of `parent` (the
+  /// split block's, in the piece's frame) that `kept` names (inherited; eq. 17's LPs for the
   /// others only: about half of them on the Table 3 scene).
   static bool set_sphere(const CutContext& ctx, LpSolver& solver, Block& b, LpCounts& lps,
-                         Extremes& ext, const Extremes* parent = nullptr,
-                         const Plane* plane = nullptr) {
+                         Extremes& ext, const VertexExtremes& v, const Extremes* parent = nullptr,
+                         unsigned kept = 0) {
     DenseLp* lp = nullptr;
     Vec3 lo, hi;
-    unsigned inherited = 0;
-    if (parent)
-      for (int k = 0; k < 6; ++k)
-        if (plane->distance(parent->x[std::size_t(k)]) < -ctx.tol.geometry) inherited |= 1u << k;
-    const VertexExtremes v = vertex_extremes(solver, b.faces, 0x3fu & ~inherited, ctx.tol);
+    const unsigned inherited = parent ? kept : 0u;
     lps.vertex_extremes += static_cast<std::size_t>(std::popcount(v.found));
     for (int k = 0; k < 6; ++k) {
       const int axis = k / 2;
@@ -391,9 +396,14 @@ class Subdivision {
     above.faces.push_back({-plane.normal, -plane.d, std::int64_t(j)});
     LpSolver& solver = referee.solver();
     const Plane flipped{-plane.normal, -plane.d};
+    const unsigned keep_below = inherited(ctx_, extremes[i], plane);
+    const unsigned keep_above = inherited(ctx_, extremes[i], flipped);
+    // Both pieces' vertices in one pass (below.faces ends with the new face, above's reversed).
+    const auto v = vertex_extremes_split(solver, below.faces, 0x3fu & ~keep_below,
+                                         0x3fu & ~keep_above, ctx_.tol);
     Extremes ext_below, ext_above;
-    if (!set_sphere(ctx_, solver, below, lps, ext_below, &extremes[i], &plane) ||
-        !set_sphere(ctx_, solver, above, lps, ext_above, &extremes[i], &flipped))
+    if (!set_sphere(ctx_, solver, below, lps, ext_below, v[0], &extremes[i], keep_below) ||
+        !set_sphere(ctx_, solver, above, lps, ext_above, v[1], &extremes[i], keep_above))
       return false;
     if (limited &&
         (!within_limits(below, early[0], referee) || !within_limits(above, early[1], referee))) {
@@ -647,7 +657,9 @@ class Cutter {
       const Plane l = to_local(p, b.origin);
       b.faces.push_back({l.normal, l.d, -1});
     }
-    if (!Subdivision::set_sphere(ctx_, referees_.local().solver(), b, stats_.lps, ext))
+    LpSolver& solver = referees_.local().solver();
+    if (!Subdivision::set_sphere(ctx_, solver, b, stats_.lps, ext,
+                                 vertex_extremes(solver, b.faces, 0x3fu, ctx_.tol)))
       throw Error("/domain", "the domain's extents LP failed", "check the domain");
     return b;
   }
