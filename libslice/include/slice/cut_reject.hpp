@@ -51,6 +51,12 @@ bool faces_miss_polygon(std::span<const Face> faces, const Plane& plane,
 /// joint (for a polygon this says nothing).
 bool plane_splits_points(const Plane& plane, std::span<const Vec3> points, double margin);
 
+/// A size-limit shortcut of the split itself (issue 29): the smaller of the widths, across the
+/// plane, of the two pieces a block (its faces) splits into, measured to the block's faces
+/// parallel to the plane (normals equal to +-plane.normal, bit for bit: joints of one set);
+/// infinity without such a face. A piece's inscribed diameter is at most its width.
+double parallel_slab_width(std::span<const Face> faces, const Plane& plane);
+
 /// The tests in order of cost: the plane against the box, the polygon's box against the box, the
 /// polygon against the faces (for a persistent joint, unless its plane splits `inside`, points
 /// of the block such as its extremes). The first that settles the pair, or none.

@@ -441,6 +441,11 @@ class Subdivision {
     const double min_d = ctx_.js.options.min_inscribed_diameter;
     if (ctx_.opt.backend != LpBackend::native || min_d <= 0) return true;
     const double margin = 2 * referee.limit_band(min_d) + 1e-7 * min_d;
+    // A child between the new face and a parallel face of the block (a joint of the same set)
+    // is no thicker than their distance apart: thinner than the limit by more than the margin
+    // and the geometry tolerance (far more than the LP's rounding), its LP would say so too.
+    if (parallel_slab_width(blocks[i].faces, plane) < min_d - margin - ctx_.tol.geometry)
+      return false;
     for (std::size_t k = 0; k < 2; ++k) {
       const double sign = k == 0 ? 1.0 : -1.0;
       child_faces_ = blocks[i].faces;

@@ -98,6 +98,18 @@ bool plane_splits_points(const Plane& plane, std::span<const Vec3> points, doubl
   return below && above;
 }
 
+double parallel_slab_width(std::span<const Face> faces, const Plane& plane) {
+  double width = std::numeric_limits<double>::infinity();
+  const Vec3& n = plane.normal;
+  for (const Face& f : faces) {
+    if (f.normal == -n)
+      width = std::min(width, plane.d + f.d);  // below: -d_f <= n . x <= d
+    else if (f.normal == n)
+      width = std::min(width, f.d - plane.d);  // above: d <= n . x <= d_f
+  }
+  return width;
+}
+
 CutReject reject_cut(std::span<const Face> faces, const Plane& plane, std::span<const Vec3> polygon,
                      const Vec3& lo, const Vec3& hi, std::span<const Vec3> inside, double margin,
                      ClipScratch& scratch) {
