@@ -128,12 +128,21 @@ class SphereList {
       if (mask[i]) out.push_back(i);
   }
 
-  /// Whether the joint may reach any of the spheres.
+  /// Whether the joint may reach any of the spheres: kChunk spheres at a time, up to the first
+  /// chunk that holds one.
   bool any_reached(const PreparedJoint& pj, double tol, std::vector<std::uint8_t>& mask) const {
+    constexpr std::size_t kChunk = 32;
     const std::size_t n = size();
-    mask.resize(n);
-    reach_mask(ReachQuery(pj, tol), x_.data(), y_.data(), z_.data(), r_.data(), n, mask.data());
-    return std::find(mask.begin(), mask.end(), std::uint8_t(1)) != mask.end();
+    const ReachQuery q(pj, tol);
+    mask.resize(kChunk);
+    for (std::size_t begin = 0; begin < n; begin += kChunk) {
+      const std::size_t len = std::min(kChunk, n - begin);
+      reach_mask(q, x_.data() + begin, y_.data() + begin, z_.data() + begin, r_.data() + begin,
+                 len, mask.data());
+      const auto end = mask.begin() + std::ptrdiff_t(len);
+      if (std::find(mask.begin(), end, std::uint8_t(1)) != end) return true;
+    }
+    return false;
   }
 
  private:
