@@ -460,3 +460,57 @@ TEST_CASE("a split's parallel slab bounds its pieces' inscribed diameter",
   CHECK(wrong == 0);
   CHECK(bounded >= n / 4);
 }
+
+// ball_in_half_space (slice-cut's other early size limit, issue 29): a block's inscribed ball,
+// cut by the planes that split the block again and again, keeps a ball inside each piece, so a
+// piece whose ball is thicker than the limit passes it without an LP. Random blocks (some with
+// duplicate and near-duplicate faces), their exact Chebyshev ball, then three splits in a row by
+// planes through the inside, a vertex, an edge, on a face, tilted off a face, near touching,
+// missing, each keeping a random side. Every ball kept must lie inside its piece (every face),
+// and the piece's exact and native Chebyshev radii must be at least its radius.
+TEST_CASE("a ball kept through splits lies inside every piece", "[property][cut][reject]") {
+  const long n = test::scaled_cases(10'000, 4);
+  auto exact = slice::make_solver(LpBackend::exact);
+  auto native = slice::make_solver(LpBackend::native);
+  const auto tol = slice::Tolerances::from_scale(1.0, kRelTol);
+  long kept = 0, wrong = 0;
+  std::string first_wrong;
+  for (long i = 0; i < n; ++i) {
+    Rng rng(mix(kSeed + 37, static_cast<std::uint64_t>(i)));
+    RandomBlock block = random_block(rng, 4 + rng.index(8), 1.0, rng.chance(0.3));
+    enumerate_vertices(block, 1.0);
+    if (block.vertices.empty()) continue;
+    std::vector<Face> piece = block.faces;
+    const slice::ChebyshevBall b0 = slice::chebyshev_ball(*exact, piece, tol);
+    REQUIRE(b0.status == LpStatus::optimal);
+    slice::Ball ball{b0.centre, b0.radius - tol.geometry};
+    for (int cut = 0; cut < 3 && ball.radius > 0; ++cut) {
+      const auto kind = static_cast<PlaneKind>(rng.index(7));
+      Plane half = random_plane(rng, block, kind, 1.0);
+      if (rng.chance(0.5)) half = {-half.normal, -half.d};
+      piece.push_back({half.normal, half.d, -1});
+      ball = slice::ball_in_half_space(ball, half, tol.geometry);
+      if (!(ball.radius > 0)) break;
+      ++kept;
+      double outside = -INFINITY;  // how far the ball pokes out of the piece (<= 0: inside)
+      for (const Face& f : piece)
+        outside = std::max(outside, f.normal.dot(ball.centre) + ball.radius - f.d);
+      const slice::ChebyshevBall e = slice::chebyshev_ball(*exact, piece, tol);
+      const slice::ChebyshevBall c = slice::chebyshev_ball(*native, piece, tol);
+      const bool ok = outside <= 1e-15 && e.status == LpStatus::optimal &&
+                      e.radius >= ball.radius && c.status == LpStatus::optimal &&
+                      c.radius >= ball.radius;
+      if (!ok && ++wrong <= 8) {
+        std::ostringstream m;
+        m << "case " << i << " cut " << cut << " " << to_string(kind) << ": ball " << ball.radius
+          << " pokes out " << outside << ", exact r " << e.radius << ", native r " << c.radius
+          << "; ";
+        first_wrong += m.str();
+      }
+    }
+  }
+  INFO(kept << " balls kept");
+  INFO(first_wrong);
+  CHECK(wrong == 0);
+  CHECK(kept >= n);
+}

@@ -57,6 +57,18 @@ bool plane_splits_points(const Plane& plane, std::span<const Vec3> points, doubl
 /// infinity without such a face. A piece's inscribed diameter is at most its width.
 double parallel_slab_width(std::span<const Face> faces, const Plane& plane);
 
+/// A ball in a block's frame; radius <= 0: none.
+struct Ball {
+  Vec3 centre = Vec3::Zero();
+  double radius = 0;
+};
+
+/// Another size-limit shortcut: the largest ball inside both `ball` and the half-space
+/// n . x <= d (the half of a ball a plane cuts holds a ball of diameter r + its centre's depth),
+/// its radius less `shrink`. If `ball` lies inside a block, the result lies inside the piece of
+/// the block on that side, and bounds the piece's inscribed radius from below. Radius <= 0: none.
+Ball ball_in_half_space(const Ball& ball, const Plane& half, double shrink);
+
 /// The tests in order of cost: the plane against the box, the polygon's box against the box, the
 /// polygon against the faces (for a persistent joint, unless its plane splits `inside`, points
 /// of the block such as its extremes). The first that settles the pair, or none.

@@ -127,6 +127,9 @@ std::string max_blocks_fix() {
 /// holds such a point has the same extreme there, without an LP.
 struct Extremes {
   std::array<Vec3, 6> x;
+  /// A ball known to lie inside the block (its frame; radius 0: none known): what remains of
+  /// it in a piece bounds that piece's inscribed radius from below, without an LP.
+  Ball ball;
 };
 
 /// The sequential subdivision of some blocks (its roots: the domain, or those a task was
@@ -229,6 +232,7 @@ class Subdivision {
     const Vec3 centre = 0.5 * (lo + hi);
     move_origin(b, centre);
     for (Vec3& x : ext.x) x -= centre;
+    ext.ball.centre -= centre;
     b.bsphere << b.origin, 0.5 * (hi - lo).norm();
     // A face whose half-space holds the block's whole bounding box (half sizes h about the
     // origin) cannot touch the block: dropping it changes no geometry and keeps the LPs small
@@ -386,7 +390,8 @@ class Subdivision {
     // keeps its cuts: its thin pieces cluster with their neighbours across it.
     const bool limited = ctx_.limits && joint.limits;
     std::array<double, 2> early{-1, -1};
-    if (limited && !early_limits(i, j, plane, referee, early)) {
+    Extremes ext_below, ext_above;  // their balls from early_limits, their extremes below
+    if (limited && !early_limits(i, j, plane, referee, early, ext_below, ext_above)) {
       ++splits_undone;
       return false;
     }
@@ -401,7 +406,6 @@ class Subdivision {
     // Both pieces' vertices in one pass (below.faces ends with the new face, above's reversed).
     const auto v = vertex_extremes_split(solver, below.faces, 0x3fu & ~keep_below,
                                          0x3fu & ~keep_above, ctx_.tol);
-    Extremes ext_below, ext_above;
     if (!set_sphere(ctx_, solver, below, lps, ext_below, v[0], &extremes[i], keep_below) ||
         !set_sphere(ctx_, solver, above, lps, ext_above, v[1], &extremes[i], keep_above))
       return false;
@@ -432,12 +436,13 @@ class Subdivision {
 
   /// The size limit decided before the children exist, from their inscribed radii in the split
   /// block's frame (with its faces, some of which the children drop): false if a child is
-  /// surely too thin. early[k] is child k's radius (below, above) where it surely passes, else
-  /// -1 (within_limits decides on the child). Only with the native backend, and only outside
-  /// twice the band in which limit_ball decides again exactly (plus 1e-7 of the limit): there
-  /// the child's own LP, a few rounding errors away, decides the same.
+  /// surely too thin. early[k] is child k's radius (below, above), or a lower bound of it, where
+  /// it surely passes, else -1 (within_limits decides on the child). `below`, `above`: the
+  /// children's known balls (Extremes::ball), for their own splits. Only with the native backend,
+  /// and only outside twice the band in which limit_ball decides again exactly (plus 1e-7 of the
+  /// limit): there the child's own LP, a few rounding errors away, decides the same.
   bool early_limits(std::size_t i, std::size_t j, const Plane& plane, Referee& referee,
-                    std::array<double, 2>& early) {
+                    std::array<double, 2>& early, Extremes& below, Extremes& above) {
     const double min_d = ctx_.js.options.min_inscribed_diameter;
     if (ctx_.opt.backend != LpBackend::native || min_d <= 0) return true;
     const double margin = 2 * referee.limit_band(min_d) + 1e-7 * min_d;
@@ -448,11 +453,23 @@ class Subdivision {
       return false;
     for (std::size_t k = 0; k < 2; ++k) {
       const double sign = k == 0 ? 1.0 : -1.0;
+      Extremes& child = k == 0 ? below : above;
+      // The part of the block's known ball on the child's side holds a ball of the child:
+      // thicker than the limit by the margin and the geometry tolerance, the child's LP would
+      // pass it too (early[k] is then that ball's radius, a lower bound of the LP's).
+      const Ball kept = ball_in_half_space(extremes[i].ball, {sign * plane.normal, sign * plane.d},
+                                           ctx_.tol.geometry);
+      if (kept.radius > 0) child.ball = kept;
+      if (2 * kept.radius > min_d + margin) {
+        early[k] = kept.radius;
+        continue;
+      }
       child_faces_ = blocks[i].faces;
       child_faces_.push_back({sign * plane.normal, sign * plane.d, std::int64_t(j)});
       const ChebyshevBall c = chebyshev_ball(referee.solver(), child_faces_, ctx_.tol);
       ++lps.chebyshev;
       if (c.status != LpStatus::optimal) continue;  // the child's own LP decides
+      child.ball = {c.centre, c.radius - ctx_.tol.geometry};
       if (2 * c.radius < min_d - margin) return false;
       if (2 * c.radius > min_d + margin) early[k] = c.radius;
     }

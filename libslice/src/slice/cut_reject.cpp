@@ -110,6 +110,15 @@ double parallel_slab_width(std::span<const Face> faces, const Plane& plane) {
   return width;
 }
 
+Ball ball_in_half_space(const Ball& ball, const Plane& half, double shrink) {
+  if (!(ball.radius > 0)) return {};
+  const double depth = half.d - half.normal.dot(ball.centre);  // the centre's, inside
+  if (depth >= ball.radius) return {ball.centre, ball.radius - shrink};
+  // The ball of diameter r + depth touching the plane and the far side of `ball`.
+  return {ball.centre - 0.5 * (ball.radius - depth) * half.normal,
+          0.5 * (ball.radius + depth) - shrink};
+}
+
 CutReject reject_cut(std::span<const Face> faces, const Plane& plane, std::span<const Vec3> polygon,
                      const Vec3& lo, const Vec3& hi, std::span<const Vec3> inside, double margin,
                      ClipScratch& scratch) {
