@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <vector>
 
@@ -124,7 +125,16 @@ class SphereList {
     const std::size_t n = size();
     mask.resize(n);
     reach_mask(ReachQuery(pj, tol), x_.data(), y_.data(), z_.data(), r_.data(), n, mask.data());
-    for (std::size_t i = 0; i < n; ++i)
+    // Eight mask bytes at a time: most are 0 (a joint reaches few of a task's blocks).
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+      std::uint64_t word;
+      std::memcpy(&word, mask.data() + i, sizeof word);
+      if (!word) continue;
+      for (std::size_t k = i; k < i + 8; ++k)
+        if (mask[k]) out.push_back(k);
+    }
+    for (; i < n; ++i)
       if (mask[i]) out.push_back(i);
   }
 
@@ -137,8 +147,8 @@ class SphereList {
     mask.resize(kChunk);
     for (std::size_t begin = 0; begin < n; begin += kChunk) {
       const std::size_t len = std::min(kChunk, n - begin);
-      reach_mask(q, x_.data() + begin, y_.data() + begin, z_.data() + begin, r_.data() + begin,
-                 len, mask.data());
+      reach_mask(q, x_.data() + begin, y_.data() + begin, z_.data() + begin, r_.data() + begin, len,
+                 mask.data());
       const auto end = mask.begin() + std::ptrdiff_t(len);
       if (std::find(mask.begin(), end, std::uint8_t(1)) != end) return true;
     }
