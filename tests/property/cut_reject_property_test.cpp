@@ -514,3 +514,53 @@ TEST_CASE("a ball kept through splits lies inside every piece", "[property][cut]
   CHECK(wrong == 0);
   CHECK(kept >= n);
 }
+
+// surely_irredundant (the prune's shortcut): a face it keeps must be one the exact redundancy LP
+// keeps, whatever point of the face's plane its search ends at. Random blocks (some with a
+// duplicate face and a face a hair outside another), each with a few more faces from planes
+// through the inside, a vertex, an edge, on a face, tilted off a face, near touching, missing,
+// and its origin moved off the middle (so that the first point, the foot of the origin, is often
+// cut off and the search has to move).
+TEST_CASE("a face the prune keeps without an LP is one the exact LP keeps",
+          "[property][cut][prune]") {
+  const long n = test::scaled_cases(4'000, 4);
+  auto exact = slice::make_solver(LpBackend::exact);
+  const auto tol = slice::Tolerances::from_scale(1.0, kRelTol);
+  long faces_tested = 0, certified = 0, moved = 0, wrong = 0;
+  std::string first_wrong;
+  for (long i = 0; i < n; ++i) {
+    Rng rng(mix(kSeed + 41, static_cast<std::uint64_t>(i)));
+    RandomBlock block = random_block(rng, 4 + rng.index(8), 1.0, rng.chance(0.3));
+    enumerate_vertices(block, 1.0);
+    if (block.vertices.empty()) continue;
+    std::vector<Face> faces = block.faces;
+    for (int extra = rng.index(4); extra > 0; --extra) {
+      const Plane p = random_plane(rng, block, static_cast<PlaneKind>(rng.index(7)), 1.0);
+      faces.push_back({p.normal, p.d, -1});
+    }
+    // The origin moved by up to the block's radius.
+    const Vec3 shift = block.radius * rng.uniform(0, 1) * rng.unit_vector();
+    for (Face& f : faces) f.d -= f.normal.dot(shift);
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      const slice::FaceRedundancy r = slice::face_redundancy(*exact, faces, f, tol);
+      if (r.status == LpStatus::infeasible) break;  // the planes left no block
+      ++faces_tested;
+      if (!slice::surely_irredundant(faces, f, tol)) continue;
+      ++certified;
+      // Would the foot of the origin alone have done (the search's first point)?
+      bool foot = true;
+      for (std::size_t j = 0; j < faces.size(); ++j)
+        foot = foot && (j == f || faces[j].d - faces[j].normal.dot(faces[f].d * faces[f].normal) >=
+                                      tol.prune);
+      moved += foot ? 0 : 1;
+      if (r.redundant && ++wrong <= 8)
+        first_wrong += "case " + std::to_string(i) + " face " + std::to_string(f) + "; ";
+    }
+  }
+  INFO(certified << " of " << faces_tested << " faces kept without an LP, " << moved
+                 << " of them after the search moved");
+  INFO(first_wrong);
+  CHECK(wrong == 0);
+  CHECK(certified >= faces_tested / 4);
+  CHECK(moved >= certified / 20);
+}

@@ -57,6 +57,16 @@ bool plane_splits_points(const Plane& plane, std::span<const Vec3> points, doubl
 /// infinity without such a face. A piece's inscribed diameter is at most its width.
 double parallel_slab_width(std::span<const Face> faces, const Plane& plane);
 
+/// The prune's shortcut: face `f` surely touches its block with positive area, so the
+/// redundancy LP (eq. 8) could only keep it. Some point p of the face's plane lies inside every
+/// other face (by at least the prune tolerance), and from p the block goes on past the plane
+/// along the normal, inside the others, for more than three prune tolerances: the LP's value is
+/// then at least that far beyond d, outside the band in which a decision is checked again. The
+/// first p tried is the foot of the block's origin; while another face cuts it off, p moves in
+/// the plane away from the face that cuts it off most (a few steps). False is no answer (the LP
+/// decides).
+bool surely_irredundant(std::span<const Face> faces, std::size_t f, const Tolerances& tol);
+
 /// A ball in a block's frame; radius <= 0: none.
 struct Ball {
   Vec3 centre = Vec3::Zero();

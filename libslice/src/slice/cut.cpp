@@ -936,26 +936,6 @@ class Cutter {
   }
 };
 
-/// Face `f` surely touches its block with positive area, so the redundancy LP (eq. 8) could only
-/// keep it: the foot p of the block's origin on the face's plane lies inside every other face
-/// (by at least the prune tolerance), and from p the block goes on past the plane along the
-/// normal, inside the others, for more than three prune tolerances. The LP's value is then at
-/// least that far beyond d, outside the band in which a decision is checked again. Costs as much
-/// as the other faces' dot products; false is no answer (the LP decides).
-bool surely_irredundant(std::span<const Face> faces, std::size_t f, const Tolerances& tol) {
-  const Face& face = faces[f];
-  const Vec3 p = face.d * face.normal;  // in the block's frame: the foot of its origin
-  double reach = std::numeric_limits<double>::infinity();
-  for (std::size_t j = 0; j < faces.size(); ++j) {
-    if (j == f) continue;
-    const double slack = faces[j].d - faces[j].normal.dot(p);
-    if (!(slack >= tol.prune)) return false;
-    const double along = faces[j].normal.dot(face.normal);
-    if (along > 0) reach = std::min(reach, slack / along);
-  }
-  return reach > 3 * tol.prune;
-}
-
 /// A file's block must be a solid: bounded (six extents LPs) with an interior (a Chebyshev
 /// radius of at least a quarter of the geometry tolerance). A crafted or damaged blocks.h5 fails
 /// here, before a wrong pruning is written.
