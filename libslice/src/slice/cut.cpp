@@ -159,6 +159,7 @@ class Subdivision {
     std::vector<std::uint8_t>().swap(mask_);
     std::vector<Vec3>().swap(corners_);
     clip_ = ClipScratch();
+    below_ = Block();
   }
   /// Frees the blocks (handed to child tasks) and the index; size() keeps their number.
   void release() {
@@ -303,6 +304,7 @@ class Subdivision {
   std::vector<std::uint8_t> mask_;
 
   std::vector<Face> child_faces_;  // early_limits' scratch
+  Block below_;                    // split's scratch: the piece below
   std::vector<Vec3> corners_;      // a joint's corners in a block's frame
   ClipScratch clip_;
 
@@ -395,7 +397,8 @@ class Subdivision {
       ++splits_undone;
       return false;
     }
-    Block below = blocks[i];  // n . x <= d
+    below_ = blocks[i];  // n . x <= d (a copy into the last split block's storage)
+    Block& below = below_;
     Block above = blocks[i];  // -n . x <= -d
     below.faces.push_back({plane.normal, plane.d, std::int64_t(j)});
     above.faces.push_back({-plane.normal, -plane.d, std::int64_t(j)});
@@ -418,7 +421,7 @@ class Subdivision {
       (joint.boundary_side > 0 ? above : below).flags |= kBoundary;
     }
     ++splits;
-    blocks[i] = std::move(below);
+    std::swap(blocks[i], below);  // below_ keeps the split block's storage, for the next split
     blocks.push_back(std::move(above));
     extremes[i] = ext_below;
     extremes.push_back(ext_above);
