@@ -167,6 +167,9 @@ class SphereGroup {
     lo_ = lo_.cwiseMin(c - r);
     hi_ = hi_.cwiseMax(c + r);
     spheres_.push_back(s);
+    c_ = 0.5 * (lo_ + hi_);
+    h_ = 0.5 * (hi_ - lo_);
+    extent_ = c_.cwiseAbs().maxCoeff() + h_.maxCoeff();
   }
   const Vec3& lo() const { return lo_; }
   const Vec3& hi() const { return hi_; }
@@ -175,9 +178,8 @@ class SphereGroup {
   /// (by far more than their rounding), so they rule out only joints it would.
   bool may_reach(const PreparedJoint& pj, double tol, std::vector<std::uint8_t>& mask) const {
     if (spheres_.size() == 0) return false;
-    const Vec3 c = 0.5 * (lo_ + hi_), h = 0.5 * (hi_ - lo_);
-    const double slack =
-        tol + 1e-9 * (c.cwiseAbs().maxCoeff() + h.maxCoeff() + std::abs(pj.plane.d));
+    const Vec3 &c = c_, &h = h_;
+    const double slack = tol + 1e-9 * (extent_ + std::abs(pj.plane.d));
     // A sphere inside the box lies as far from the plane as the box, or farther.
     if (std::abs(pj.plane.distance(c)) > pj.plane.normal.cwiseAbs().dot(h) + slack) return false;
     // ... and as far from the polygon's centre, plus its radius; its box is inside this one.
@@ -193,6 +195,8 @@ class SphereGroup {
 
  private:
   Vec3 lo_ = Vec3::Constant(INFINITY), hi_ = Vec3::Constant(-INFINITY);
+  Vec3 c_ = Vec3::Zero(), h_ = Vec3::Zero();  // the box's centre and half sizes
+  double extent_ = 0;                         // max |c_| + max h_, for the slack
   SphereList spheres_;
 };
 
