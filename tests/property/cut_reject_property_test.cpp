@@ -386,3 +386,181 @@ TEST_CASE("the shortcuts change no block of degenerate lattice scenes", "[proper
   SUCCEED(summary.str());  // shown with -s
   CHECK(settled > 0);
 }
+
+// parallel_slab_width (slice-cut's early size limit, issue 29): a block split by a plane
+// parallel to one of its faces (the same normal, or its reverse, bit for bit) has a piece no
+// thicker than the slab between them. Random blocks (some with a duplicate face and a face a
+// hair outside another), the plane from 1e-7 to twice the block's radius inside one of its
+// faces; also planes through a vertex of the block, and on the face itself. The
+// exact Chebyshev LP of each piece must never find a piece thinner than the shortcut says it
+// might be thick: 2 r_exact <= width. And wherever slice-cut would decide early (the width below
+// a limit by the margin and the geometry tolerance), the native LP, the one slice-cut would
+// otherwise run, finds the piece under the limit too.
+TEST_CASE("a split's parallel slab bounds its pieces' inscribed diameter",
+          "[property][cut][reject]") {
+  const long n = test::scaled_cases(20'000, 4);
+  auto exact = slice::make_solver(LpBackend::exact);
+  auto native = slice::make_solver(LpBackend::native);
+  const auto tol = slice::Tolerances::from_scale(1.0, kRelTol);
+  long bounded = 0, decided = 0, wrong = 0;
+  std::string first_wrong;
+  for (long i = 0; i < n; ++i) {
+    Rng rng(mix(kSeed + 31, static_cast<std::uint64_t>(i)));
+    RandomBlock block = random_block(rng, 4 + rng.index(8), 1.0, rng.chance(0.3));
+    enumerate_vertices(block, 1.0);
+    if (block.vertices.empty()) continue;
+    const Face& f = block.faces[static_cast<std::size_t>(rng.index(int(block.faces.size())))];
+    double w = block.radius * rng.log_uniform(-7, 0.3);
+    const int where = static_cast<int>(i % 4);  // 0, 1: a slab; 2: a vertex; 3: on the face
+    if (where == 2) {
+      const Vertex& v =
+          block.vertices[static_cast<std::size_t>(rng.index(int(block.vertices.size())))];
+      w = f.d - f.normal.dot(v.x);
+    } else if (where == 3) {
+      w = 0;
+    }
+    // The plane n . x = f.d - w, written with normal +-f.normal (a reversal is exact).
+    const bool reversed = rng.chance(0.5);
+    const Plane plane = reversed ? Plane{-f.normal, -(f.d - w)} : Plane{f.normal, f.d - w};
+    const double width = slice::parallel_slab_width(block.faces, plane);
+    REQUIRE(std::isfinite(width));
+    std::vector<Face> below = block.faces, above = block.faces;
+    below.push_back({plane.normal, plane.d, -1});
+    above.push_back({-plane.normal, -plane.d, -1});
+    double thinnest = INFINITY, thinnest_native = INFINITY;
+    bool split = true;
+    for (const auto* piece : {&below, &above}) {
+      const slice::ChebyshevBall e = slice::chebyshev_ball(*exact, *piece, tol);
+      const slice::ChebyshevBall c = slice::chebyshev_ball(*native, *piece, tol);
+      // A piece with no interior (the plane misses the block, or lies on a face): no split.
+      split = split && e.status == LpStatus::optimal && e.radius > 0;
+      thinnest = std::min(thinnest, 2 * e.radius);
+      if (c.status == LpStatus::optimal) thinnest_native = std::min(thinnest_native, 2 * c.radius);
+    }
+    if (!split) continue;
+    ++bounded;
+    bool ok = thinnest <= width + 1e-12;
+    // slice-cut's rule: a limit min_d with width < min_d - margin - tol.geometry is decided
+    // early; the LP must find that piece under min_d - margin. Limits just past that point.
+    const double margin = 1e-7 * 0.4,
+                 min_d = width + margin + tol.geometry + rng.log_uniform(-12, -1);
+    if (width < min_d - margin - tol.geometry) {
+      ++decided;
+      ok = ok && thinnest_native < min_d - margin;
+    }
+    if (!ok && ++wrong <= 8) {
+      std::ostringstream m;
+      m << "case " << i << " where " << where << " width " << width << " exact 2r " << thinnest
+        << " native 2r " << thinnest_native << "; ";
+      first_wrong += m.str();
+    }
+  }
+  INFO(bounded << " splits bounded, " << decided << " decided early");
+  INFO(first_wrong);
+  CHECK(wrong == 0);
+  CHECK(bounded >= n / 4);
+}
+
+// ball_in_half_space (slice-cut's other early size limit, issue 29): a block's inscribed ball,
+// cut by the planes that split the block again and again, keeps a ball inside each piece, so a
+// piece whose ball is thicker than the limit passes it without an LP. Random blocks (some with
+// duplicate and near-duplicate faces), their exact Chebyshev ball, then three splits in a row by
+// planes through the inside, a vertex, an edge, on a face, tilted off a face, near touching,
+// missing, each keeping a random side. Every ball kept must lie inside its piece (every face),
+// and the piece's exact and native Chebyshev radii must be at least its radius.
+TEST_CASE("a ball kept through splits lies inside every piece", "[property][cut][reject]") {
+  const long n = test::scaled_cases(10'000, 4);
+  auto exact = slice::make_solver(LpBackend::exact);
+  auto native = slice::make_solver(LpBackend::native);
+  const auto tol = slice::Tolerances::from_scale(1.0, kRelTol);
+  long kept = 0, wrong = 0;
+  std::string first_wrong;
+  for (long i = 0; i < n; ++i) {
+    Rng rng(mix(kSeed + 37, static_cast<std::uint64_t>(i)));
+    RandomBlock block = random_block(rng, 4 + rng.index(8), 1.0, rng.chance(0.3));
+    enumerate_vertices(block, 1.0);
+    if (block.vertices.empty()) continue;
+    std::vector<Face> piece = block.faces;
+    const slice::ChebyshevBall b0 = slice::chebyshev_ball(*exact, piece, tol);
+    REQUIRE(b0.status == LpStatus::optimal);
+    slice::Ball ball{b0.centre, b0.radius - tol.geometry};
+    for (int cut = 0; cut < 3 && ball.radius > 0; ++cut) {
+      const auto kind = static_cast<PlaneKind>(rng.index(7));
+      Plane half = random_plane(rng, block, kind, 1.0);
+      if (rng.chance(0.5)) half = {-half.normal, -half.d};
+      piece.push_back({half.normal, half.d, -1});
+      ball = slice::ball_in_half_space(ball, half, tol.geometry);
+      if (!(ball.radius > 0)) break;
+      ++kept;
+      double outside = -INFINITY;  // how far the ball pokes out of the piece (<= 0: inside)
+      for (const Face& f : piece)
+        outside = std::max(outside, f.normal.dot(ball.centre) + ball.radius - f.d);
+      const slice::ChebyshevBall e = slice::chebyshev_ball(*exact, piece, tol);
+      const slice::ChebyshevBall c = slice::chebyshev_ball(*native, piece, tol);
+      const bool ok = outside <= 1e-15 && e.status == LpStatus::optimal &&
+                      e.radius >= ball.radius && c.status == LpStatus::optimal &&
+                      c.radius >= ball.radius;
+      if (!ok && ++wrong <= 8) {
+        std::ostringstream m;
+        m << "case " << i << " cut " << cut << " " << to_string(kind) << ": ball " << ball.radius
+          << " pokes out " << outside << ", exact r " << e.radius << ", native r " << c.radius
+          << "; ";
+        first_wrong += m.str();
+      }
+    }
+  }
+  INFO(kept << " balls kept");
+  INFO(first_wrong);
+  CHECK(wrong == 0);
+  CHECK(kept >= n);
+}
+
+// surely_irredundant (the prune's shortcut): a face it keeps must be one the exact redundancy LP
+// keeps, whatever point of the face's plane its search ends at. Random blocks (some with a
+// duplicate face and a face a hair outside another), each with a few more faces from planes
+// through the inside, a vertex, an edge, on a face, tilted off a face, near touching, missing,
+// and its origin moved off the middle (so that the first point, the foot of the origin, is often
+// cut off and the search has to move).
+TEST_CASE("a face the prune keeps without an LP is one the exact LP keeps",
+          "[property][cut][prune]") {
+  const long n = test::scaled_cases(4'000, 4);
+  auto exact = slice::make_solver(LpBackend::exact);
+  const auto tol = slice::Tolerances::from_scale(1.0, kRelTol);
+  long faces_tested = 0, certified = 0, moved = 0, wrong = 0;
+  std::string first_wrong;
+  for (long i = 0; i < n; ++i) {
+    Rng rng(mix(kSeed + 41, static_cast<std::uint64_t>(i)));
+    RandomBlock block = random_block(rng, 4 + rng.index(8), 1.0, rng.chance(0.3));
+    enumerate_vertices(block, 1.0);
+    if (block.vertices.empty()) continue;
+    std::vector<Face> faces = block.faces;
+    for (int extra = rng.index(4); extra > 0; --extra) {
+      const Plane p = random_plane(rng, block, static_cast<PlaneKind>(rng.index(7)), 1.0);
+      faces.push_back({p.normal, p.d, -1});
+    }
+    // The origin moved by up to the block's radius.
+    const Vec3 shift = block.radius * rng.uniform(0, 1) * rng.unit_vector();
+    for (Face& f : faces) f.d -= f.normal.dot(shift);
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      const slice::FaceRedundancy r = slice::face_redundancy(*exact, faces, f, tol);
+      if (r.status == LpStatus::infeasible) break;  // the planes left no block
+      ++faces_tested;
+      if (!slice::surely_irredundant(faces, f, tol)) continue;
+      ++certified;
+      // Would the foot of the origin alone have done (the search's first point)?
+      bool foot = true;
+      for (std::size_t j = 0; j < faces.size(); ++j)
+        foot = foot && (j == f || faces[j].d - faces[j].normal.dot(faces[f].d * faces[f].normal) >=
+                                      tol.prune);
+      moved += foot ? 0 : 1;
+      if (r.redundant && ++wrong <= 8)
+        first_wrong += "case " + std::to_string(i) + " face " + std::to_string(f) + "; ";
+    }
+  }
+  INFO(certified << " of " << faces_tested << " faces kept without an LP, " << moved
+                 << " of them after the search moved");
+  INFO(first_wrong);
+  CHECK(wrong == 0);
+  CHECK(certified >= faces_tested / 4);
+  CHECK(moved >= certified / 20);
+}

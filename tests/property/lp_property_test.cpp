@@ -3,9 +3,12 @@
 // any number of threads. Catch2 is not thread-safe: workers collect a Report, the main thread
 // asserts on it.
 #include <algorithm>
+#include <bit>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
 #include <functional>
+#include <limits>
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -397,4 +400,121 @@ TEST_CASE("vertex extremes are the exact extents wherever they answer", "[proper
   CHECK(wrong == 0);
   // Unbounded sets answer at most their bounded directions; the others nearly all.
   CHECK(answered >= directions / 2);
+}
+
+// vertex_extremes_split answers both pieces of a split in one pass. It must give each piece
+// exactly (bit for bit) what vertex_extremes gives it alone, and both must give what the plain
+// triple loop below gives (vertex_extremes as it was before it served two pieces at once):
+// slice-cut's blocks depend on those bits. Random blocks cut by
+// planes through their inside, a vertex, an edge, coplanar with a face, tilted off a face, near
+// touching, missing; and boxes (the domain's faces, where many triples meet at one vertex) cut
+// by axis planes through their inside, on a face, or through a corner.
+namespace {
+
+slice::VertexExtremes plain_vertex_extremes(const std::vector<Face>& faces, unsigned wanted) {
+  slice::VertexExtremes out;
+  const std::size_t m = faces.size();
+  if (m < 4 || m > slice::kVertexFaces || !wanted) return out;
+  double dmax = 0;
+  for (const Face& f : faces) dmax = std::max(dmax, std::abs(f.d));
+  for (std::size_t i = 0; i < m; ++i)
+    for (std::size_t j = i + 1; j < m; ++j)
+      for (std::size_t k = j + 1; k < m; ++k) {
+        const Vec3 a = faces[j].normal.cross(faces[k].normal);
+        const Vec3 b = -faces[i].normal.cross(faces[k].normal);
+        const Vec3 c = faces[i].normal.cross(faces[j].normal);
+        const double det = faces[i].normal.dot(a);
+        if (!(std::abs(det) >= 1e-4)) continue;
+        const Vec3 ra = a / det, rb = b / det, rc = c / det;
+        unsigned proves = 0;
+        for (int t = 0; t < 3; ++t) {
+          if (ra[t] >= -1e-12 && rb[t] >= -1e-12 && rc[t] >= -1e-12) proves |= 1u << (2 * t);
+          if (ra[t] <= 1e-12 && rb[t] <= 1e-12 && rc[t] <= 1e-12) proves |= 1u << (2 * t + 1);
+        }
+        proves &= wanted & ~out.found;
+        if (!proves) continue;
+        const Vec3 x = faces[i].d * ra + faces[j].d * rb + faces[k].d * rc;
+        const double slack = 16 * std::numeric_limits<double>::epsilon() * dmax / std::abs(det);
+        bool inside = true;
+        for (const Face& f : faces) inside = inside && f.normal.dot(x) <= f.d + slack;
+        if (!inside) continue;
+        for (int dir = 0; dir < 6; ++dir)
+          if (proves & (1u << dir)) out.x[std::size_t(dir)] = x;
+        out.found |= proves;
+      }
+  return out;
+}
+
+/// The same directions answered, by the same bits (the others' x is undefined).
+bool same_bits(const slice::VertexExtremes& a, const slice::VertexExtremes& b) {
+  if (a.found != b.found) return false;
+  for (int dir = 0; dir < 6; ++dir)
+    if ((a.found & (1u << dir)) &&
+        std::memcmp(&a.x[std::size_t(dir)], &b.x[std::size_t(dir)], sizeof(Vec3)) != 0)
+      return false;
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("vertex extremes of both pieces of a split are each piece's own, bit for bit",
+          "[property][lp][extents]") {
+  const long n = test::scaled_cases(80'000, 8);
+  long answered = 0, wanted_total = 0, wrong = 0;
+  std::string first_wrong;
+  for (long i = 0; i < n; ++i) {
+    Rng rng(mix(kSeed + 11, static_cast<std::uint64_t>(i)));
+    const int kind = static_cast<int>(i % 8);  // 0-6: PlaneKind on a random block; 7: a box
+    std::vector<Face> faces;
+    Plane plane;
+    if (kind < 7) {
+      RandomBlock block = random_block(rng, 4 + rng.index(4), 1.0, rng.chance(0.3));
+      enumerate_vertices(block, 1.0);
+      if (block.vertices.empty()) continue;
+      plane = random_plane(rng, block, static_cast<PlaneKind>(kind), 1.0);
+      faces = block.faces;
+    } else {
+      const Vec3 h(rng.uniform(0.1, 1), rng.uniform(0.1, 1), rng.uniform(0.1, 1));
+      for (int axis = 0; axis < 3; ++axis)
+        for (const double sign : {1.0, -1.0}) faces.push_back({sign * Vec3::Unit(axis), h[axis]});
+      const int axis = rng.index(3);
+      const double sign = rng.chance(0.5) ? 1 : -1;
+      switch (rng.index(3)) {
+        case 0:  // an axis plane through the inside
+          plane = {sign * Vec3::Unit(axis), sign * h[axis] * rng.uniform(-0.9, 0.9)};
+          break;
+        case 1:  // an axis plane on a face
+          plane = {sign * Vec3::Unit(axis), h[axis] * (rng.chance(0.5) ? 1 : -1)};
+          break;
+        default: {  // a random plane through a corner
+          const Vec3 corner = h.cwiseProduct(
+              Vec3(rng.chance(0.5) ? 1 : -1, rng.chance(0.5) ? 1 : -1, rng.chance(0.5) ? 1 : -1));
+          const Vec3 nrm = rng.unit_vector();
+          plane = {nrm, nrm.dot(corner)};
+        }
+      }
+    }
+    std::vector<Face> below = faces, above = faces;
+    below.push_back({plane.normal, plane.d, 7});
+    above.push_back({-plane.normal, -plane.d, 7});
+    const unsigned wb = rng.chance(0.2) ? 0x3fu : unsigned(rng.index(64));
+    const unsigned wa = rng.chance(0.2) ? 0x3fu : unsigned(rng.index(64));
+    const auto both = slice::vertex_extremes_split(below, wb, wa);
+    const slice::VertexExtremes alone[2] = {slice::vertex_extremes(below, wb),
+                                            slice::vertex_extremes(above, wa)};
+    const slice::VertexExtremes plain[2] = {plain_vertex_extremes(below, wb),
+                                            plain_vertex_extremes(above, wa)};
+    for (std::size_t v = 0; v < 2; ++v) {
+      wanted_total += std::popcount(v == 0 ? wb : wa);
+      answered += std::popcount(both[v].found);
+      if (same_bits(both[v], alone[v]) && same_bits(alone[v], plain[v])) continue;
+      if (++wrong <= 10)
+        first_wrong += "case " + std::to_string(i) + " kind " + std::to_string(kind) + " piece " +
+                       std::to_string(v) + "; ";
+    }
+  }
+  INFO(answered << " of " << wanted_total << " wanted directions answered");
+  INFO(first_wrong);
+  CHECK(wrong == 0);
+  CHECK(answered >= wanted_total / 2);  // the cases are not trivially empty
 }

@@ -51,6 +51,34 @@ bool faces_miss_polygon(std::span<const Face> faces, const Plane& plane,
 /// joint (for a polygon this says nothing).
 bool plane_splits_points(const Plane& plane, std::span<const Vec3> points, double margin);
 
+/// A size-limit shortcut of the split itself (issue 29): the smaller of the widths, across the
+/// plane, of the two pieces a block (its faces) splits into, measured to the block's faces
+/// parallel to the plane (normals equal to +-plane.normal, bit for bit: joints of one set);
+/// infinity without such a face. A piece's inscribed diameter is at most its width.
+double parallel_slab_width(std::span<const Face> faces, const Plane& plane);
+
+/// The prune's shortcut: face `f` surely touches its block with positive area, so the
+/// redundancy LP (eq. 8) could only keep it. Some point p of the face's plane lies inside every
+/// other face (by at least the prune tolerance), and from p the block goes on past the plane
+/// along the normal, inside the others, for more than three prune tolerances: the LP's value is
+/// then at least that far beyond d, outside the band in which a decision is checked again. The
+/// first p tried is the foot of the block's origin; while another face cuts it off, p moves in
+/// the plane away from the face that cuts it off most (a few steps). False is no answer (the LP
+/// decides).
+bool surely_irredundant(std::span<const Face> faces, std::size_t f, const Tolerances& tol);
+
+/// A ball in a block's frame; radius <= 0: none.
+struct Ball {
+  Vec3 centre = Vec3::Zero();
+  double radius = 0;
+};
+
+/// Another size-limit shortcut: the largest ball inside both `ball` and the half-space
+/// n . x <= d (the half of a ball a plane cuts holds a ball of diameter r + its centre's depth),
+/// its radius less `shrink`. If `ball` lies inside a block, the result lies inside the piece of
+/// the block on that side, and bounds the piece's inscribed radius from below. Radius <= 0: none.
+Ball ball_in_half_space(const Ball& ball, const Plane& half, double shrink);
+
 /// The tests in order of cost: the plane against the box, the polygon's box against the box, the
 /// polygon against the faces (for a persistent joint, unless its plane splits `inside`, points
 /// of the block such as its extremes). The first that settles the pair, or none.

@@ -189,6 +189,15 @@ VertexExtremes vertex_extremes(std::span<const Face> faces, unsigned wanted);
 /// their own answers) on a 3-D block (a section's LPs are 2-D).
 VertexExtremes vertex_extremes(const LpSolver& solver, std::span<const Face> faces, unsigned wanted,
                                const Tolerances& tol);
+/// Both pieces of a split at once, in one pass over the vertices they share: `faces` ends with
+/// the piece below's new face (n, d); the piece above has the same faces with that one reversed
+/// (-n, -d). Returns {vertex_extremes(below's faces, below), vertex_extremes(above's faces,
+/// above)}, the same bits, for about the cost of one.
+std::array<VertexExtremes, 2> vertex_extremes_split(std::span<const Face> faces, unsigned below,
+                                                    unsigned above);
+std::array<VertexExtremes, 2> vertex_extremes_split(const LpSolver& solver,
+                                                    std::span<const Face> faces, unsigned below,
+                                                    unsigned above, const Tolerances& tol);
 
 /// Chebyshev centre and inscribed radius (eq. 18): minimise t s.t. a_i . x - d_i <= t,
 /// radius = -t*. A radius <= tol.geometry means the block has no interior.

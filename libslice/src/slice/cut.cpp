@@ -127,6 +127,9 @@ std::string max_blocks_fix() {
 /// holds such a point has the same extreme there, without an LP.
 struct Extremes {
   std::array<Vec3, 6> x;
+  /// A ball known to lie inside the block (its frame; radius 0: none known): what remains of
+  /// it in a piece bounds that piece's inscribed radius from below, without an LP.
+  Ball ball;
 };
 
 /// The sequential subdivision of some blocks (its roots: the domain, or those a task was
@@ -156,6 +159,7 @@ class Subdivision {
     std::vector<std::uint8_t>().swap(mask_);
     std::vector<Vec3>().swap(corners_);
     clip_ = ClipScratch();
+    below_ = Block();
   }
   /// Frees the blocks (handed to child tasks) and the index; size() keeps their number.
   void release() {
@@ -179,21 +183,26 @@ class Subdivision {
   std::size_t tested = 0;  // joint-block pairs past the index (to the cut LP or settled)
   std::array<std::size_t, 4> rejected{};  // pairs settled without the LP, by CutReject
 
+  /// The extremes of a split block (`parent`) that lie well inside the piece with new face
+  /// `plane` (both in the piece's frame): the piece has the same extremes there, without an LP.
+  static unsigned inherited(const CutContext& ctx, const Extremes& parent, const Plane& plane) {
+    unsigned bits = 0;
+    for (int k = 0; k < 6; ++k)
+      if (plane.distance(parent.x[std::size_t(k)]) < -ctx.tol.geometry) bits |= 1u << k;
+    return bits;
+  }
+
   /// Sets the bounding sphere of a block (the root's, before a subdivision starts) and `ext`,
-  /// moving its origin to the centre of its extents. A piece of a split block (`parent`: the
-  /// split block's extremes, `plane`: the piece's new face, both in the piece's frame) keeps
-  /// each extreme its parent reaches at a point well inside the piece (eq. 17's LPs for the
+  /// moving its origin to the centre of its extents. `v`: the extremes vertex_extremes found for
+  /// the directions not `kept`. A piece of a split block keeps the extremes of `parent` (the
+  /// split block's, in the piece's frame) that `kept` names (inherited; eq. 17's LPs for the
   /// others only: about half of them on the Table 3 scene).
   static bool set_sphere(const CutContext& ctx, LpSolver& solver, Block& b, LpCounts& lps,
-                         Extremes& ext, const Extremes* parent = nullptr,
-                         const Plane* plane = nullptr) {
+                         Extremes& ext, const VertexExtremes& v, const Extremes* parent = nullptr,
+                         unsigned kept = 0) {
     DenseLp* lp = nullptr;
     Vec3 lo, hi;
-    unsigned inherited = 0;
-    if (parent)
-      for (int k = 0; k < 6; ++k)
-        if (plane->distance(parent->x[std::size_t(k)]) < -ctx.tol.geometry) inherited |= 1u << k;
-    const VertexExtremes v = vertex_extremes(solver, b.faces, 0x3fu & ~inherited, ctx.tol);
+    const unsigned inherited = parent ? kept : 0u;
     lps.vertex_extremes += static_cast<std::size_t>(std::popcount(v.found));
     for (int k = 0; k < 6; ++k) {
       const int axis = k / 2;
@@ -224,6 +233,7 @@ class Subdivision {
     const Vec3 centre = 0.5 * (lo + hi);
     move_origin(b, centre);
     for (Vec3& x : ext.x) x -= centre;
+    ext.ball.centre -= centre;
     b.bsphere << b.origin, 0.5 * (hi - lo).norm();
     // A face whose half-space holds the block's whole bounding box (half sizes h about the
     // origin) cannot touch the block: dropping it changes no geometry and keeps the LPs small
@@ -294,6 +304,7 @@ class Subdivision {
   std::vector<std::uint8_t> mask_;
 
   std::vector<Face> child_faces_;  // early_limits' scratch
+  Block below_;                    // split's scratch: the piece below
   std::vector<Vec3> corners_;      // a joint's corners in a block's frame
   ClipScratch clip_;
 
@@ -381,19 +392,25 @@ class Subdivision {
     // keeps its cuts: its thin pieces cluster with their neighbours across it.
     const bool limited = ctx_.limits && joint.limits;
     std::array<double, 2> early{-1, -1};
-    if (limited && !early_limits(i, j, plane, referee, early)) {
+    Extremes ext_below, ext_above;  // their balls from early_limits, their extremes below
+    if (limited && !early_limits(i, j, plane, referee, early, ext_below, ext_above)) {
       ++splits_undone;
       return false;
     }
-    Block below = blocks[i];  // n . x <= d
+    below_ = blocks[i];  // n . x <= d (a copy into the last split block's storage)
+    Block& below = below_;
     Block above = blocks[i];  // -n . x <= -d
     below.faces.push_back({plane.normal, plane.d, std::int64_t(j)});
     above.faces.push_back({-plane.normal, -plane.d, std::int64_t(j)});
     LpSolver& solver = referee.solver();
     const Plane flipped{-plane.normal, -plane.d};
-    Extremes ext_below, ext_above;
-    if (!set_sphere(ctx_, solver, below, lps, ext_below, &extremes[i], &plane) ||
-        !set_sphere(ctx_, solver, above, lps, ext_above, &extremes[i], &flipped))
+    const unsigned keep_below = inherited(ctx_, extremes[i], plane);
+    const unsigned keep_above = inherited(ctx_, extremes[i], flipped);
+    // Both pieces' vertices in one pass (below.faces ends with the new face, above's reversed).
+    const auto v = vertex_extremes_split(solver, below.faces, 0x3fu & ~keep_below,
+                                         0x3fu & ~keep_above, ctx_.tol);
+    if (!set_sphere(ctx_, solver, below, lps, ext_below, v[0], &extremes[i], keep_below) ||
+        !set_sphere(ctx_, solver, above, lps, ext_above, v[1], &extremes[i], keep_above))
       return false;
     if (limited &&
         (!within_limits(below, early[0], referee) || !within_limits(above, early[1], referee))) {
@@ -404,7 +421,7 @@ class Subdivision {
       (joint.boundary_side > 0 ? above : below).flags |= kBoundary;
     }
     ++splits;
-    blocks[i] = std::move(below);
+    std::swap(blocks[i], below);  // below_ keeps the split block's storage, for the next split
     blocks.push_back(std::move(above));
     extremes[i] = ext_below;
     extremes.push_back(ext_above);
@@ -422,22 +439,40 @@ class Subdivision {
 
   /// The size limit decided before the children exist, from their inscribed radii in the split
   /// block's frame (with its faces, some of which the children drop): false if a child is
-  /// surely too thin. early[k] is child k's radius (below, above) where it surely passes, else
-  /// -1 (within_limits decides on the child). Only with the native backend, and only outside
-  /// twice the band in which limit_ball decides again exactly (plus 1e-7 of the limit): there
-  /// the child's own LP, a few rounding errors away, decides the same.
+  /// surely too thin. early[k] is child k's radius (below, above), or a lower bound of it, where
+  /// it surely passes, else -1 (within_limits decides on the child). `below`, `above`: the
+  /// children's known balls (Extremes::ball), for their own splits. Only with the native backend,
+  /// and only outside twice the band in which limit_ball decides again exactly (plus 1e-7 of the
+  /// limit): there the child's own LP, a few rounding errors away, decides the same.
   bool early_limits(std::size_t i, std::size_t j, const Plane& plane, Referee& referee,
-                    std::array<double, 2>& early) {
+                    std::array<double, 2>& early, Extremes& below, Extremes& above) {
     const double min_d = ctx_.js.options.min_inscribed_diameter;
     if (ctx_.opt.backend != LpBackend::native || min_d <= 0) return true;
     const double margin = 2 * referee.limit_band(min_d) + 1e-7 * min_d;
+    // A child between the new face and a parallel face of the block (a joint of the same set)
+    // is no thicker than their distance apart: thinner than the limit by more than the margin
+    // and the geometry tolerance (far more than the LP's rounding), its LP would say so too.
+    if (parallel_slab_width(blocks[i].faces, plane) < min_d - margin - ctx_.tol.geometry)
+      return false;
     for (std::size_t k = 0; k < 2; ++k) {
       const double sign = k == 0 ? 1.0 : -1.0;
+      Extremes& child = k == 0 ? below : above;
+      // The part of the block's known ball on the child's side holds a ball of the child:
+      // thicker than the limit by the margin and the geometry tolerance, the child's LP would
+      // pass it too (early[k] is then that ball's radius, a lower bound of the LP's).
+      const Ball kept = ball_in_half_space(extremes[i].ball, {sign * plane.normal, sign * plane.d},
+                                           ctx_.tol.geometry);
+      if (kept.radius > 0) child.ball = kept;
+      if (2 * kept.radius > min_d + margin) {
+        early[k] = kept.radius;
+        continue;
+      }
       child_faces_ = blocks[i].faces;
       child_faces_.push_back({sign * plane.normal, sign * plane.d, std::int64_t(j)});
       const ChebyshevBall c = chebyshev_ball(referee.solver(), child_faces_, ctx_.tol);
       ++lps.chebyshev;
       if (c.status != LpStatus::optimal) continue;  // the child's own LP decides
+      child.ball = {c.centre, c.radius - ctx_.tol.geometry};
       if (2 * c.radius < min_d - margin) return false;
       if (2 * c.radius > min_d + margin) early[k] = c.radius;
     }
@@ -647,7 +682,9 @@ class Cutter {
       const Plane l = to_local(p, b.origin);
       b.faces.push_back({l.normal, l.d, -1});
     }
-    if (!Subdivision::set_sphere(ctx_, referees_.local().solver(), b, stats_.lps, ext))
+    LpSolver& solver = referees_.local().solver();
+    if (!Subdivision::set_sphere(ctx_, solver, b, stats_.lps, ext,
+                                 vertex_extremes(solver, b.faces, 0x3fu, ctx_.tol)))
       throw Error("/domain", "the domain's extents LP failed", "check the domain");
     return b;
   }
@@ -901,26 +938,6 @@ class Cutter {
     return e.centre;
   }
 };
-
-/// Face `f` surely touches its block with positive area, so the redundancy LP (eq. 8) could only
-/// keep it: the foot p of the block's origin on the face's plane lies inside every other face
-/// (by at least the prune tolerance), and from p the block goes on past the plane along the
-/// normal, inside the others, for more than three prune tolerances. The LP's value is then at
-/// least that far beyond d, outside the band in which a decision is checked again. Costs as much
-/// as the other faces' dot products; false is no answer (the LP decides).
-bool surely_irredundant(std::span<const Face> faces, std::size_t f, const Tolerances& tol) {
-  const Face& face = faces[f];
-  const Vec3 p = face.d * face.normal;  // in the block's frame: the foot of its origin
-  double reach = std::numeric_limits<double>::infinity();
-  for (std::size_t j = 0; j < faces.size(); ++j) {
-    if (j == f) continue;
-    const double slack = faces[j].d - faces[j].normal.dot(p);
-    if (!(slack >= tol.prune)) return false;
-    const double along = faces[j].normal.dot(face.normal);
-    if (along > 0) reach = std::min(reach, slack / along);
-  }
-  return reach > 3 * tol.prune;
-}
 
 /// A file's block must be a solid: bounded (six extents LPs) with an interior (a Chebyshev
 /// radius of at least a quarter of the geometry tolerance). A crafted or damaged blocks.h5 fails

@@ -98,6 +98,58 @@ bool plane_splits_points(const Plane& plane, std::span<const Vec3> points, doubl
   return below && above;
 }
 
+double parallel_slab_width(std::span<const Face> faces, const Plane& plane) {
+  double width = std::numeric_limits<double>::infinity();
+  const Vec3& n = plane.normal;
+  for (const Face& f : faces) {
+    if (f.normal == -n)
+      width = std::min(width, plane.d + f.d);  // below: -d_f <= n . x <= d
+    else if (f.normal == n)
+      width = std::min(width, f.d - plane.d);  // above: d <= n . x <= d_f
+  }
+  return width;
+}
+
+bool surely_irredundant(std::span<const Face> faces, std::size_t f, const Tolerances& tol) {
+  // Steps of the search, and the depth inside the face it cuts off that a step gives p.
+  constexpr int kSteps = 4;
+  const double target = 16 * tol.prune;
+  const Face& face = faces[f];
+  Vec3 p = face.d * face.normal;  // in the block's frame: the foot of its origin
+  for (int step = 0;; ++step) {
+    double reach = std::numeric_limits<double>::infinity();
+    double worst = std::numeric_limits<double>::infinity();
+    std::size_t cutter = f;
+    for (std::size_t j = 0; j < faces.size(); ++j) {
+      if (j == f) continue;
+      const double slack = faces[j].d - faces[j].normal.dot(p);
+      if (!(slack >= worst)) {
+        worst = slack;
+        cutter = j;
+      }
+      const double along = faces[j].normal.dot(face.normal);
+      if (along > 0) reach = std::min(reach, slack / along);
+    }
+    if (worst >= tol.prune) return reach > 3 * tol.prune;
+    if (step == kSteps || cutter == f) return false;
+    // Along the cutting face's normal projected on the plane: its slack grows to `target`.
+    const Vec3& m = faces[cutter].normal;
+    const Vec3 u = m - m.dot(face.normal) * face.normal;
+    const double u2 = u.squaredNorm();
+    if (!(u2 > 1e-6)) return false;  // (nearly) parallel to the face: no way around it
+    p -= ((target - worst) / u2) * u;
+  }
+}
+
+Ball ball_in_half_space(const Ball& ball, const Plane& half, double shrink) {
+  if (!(ball.radius > 0)) return {};
+  const double depth = half.d - half.normal.dot(ball.centre);  // the centre's, inside
+  if (depth >= ball.radius) return {ball.centre, ball.radius - shrink};
+  // The ball of diameter r + depth touching the plane and the far side of `ball`.
+  return {ball.centre - 0.5 * (ball.radius - depth) * half.normal,
+          0.5 * (ball.radius + depth) - shrink};
+}
+
 CutReject reject_cut(std::span<const Face> faces, const Plane& plane, std::span<const Vec3> polygon,
                      const Vec3& lo, const Vec3& hi, std::span<const Vec3> inside, double margin,
                      ClipScratch& scratch) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <vector>
 
@@ -124,16 +125,34 @@ class SphereList {
     const std::size_t n = size();
     mask.resize(n);
     reach_mask(ReachQuery(pj, tol), x_.data(), y_.data(), z_.data(), r_.data(), n, mask.data());
-    for (std::size_t i = 0; i < n; ++i)
+    // Eight mask bytes at a time: most are 0 (a joint reaches few of a task's blocks).
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+      std::uint64_t word;
+      std::memcpy(&word, mask.data() + i, sizeof word);
+      if (!word) continue;
+      for (std::size_t k = i; k < i + 8; ++k)
+        if (mask[k]) out.push_back(k);
+    }
+    for (; i < n; ++i)
       if (mask[i]) out.push_back(i);
   }
 
-  /// Whether the joint may reach any of the spheres.
+  /// Whether the joint may reach any of the spheres: kChunk spheres at a time, up to the first
+  /// chunk that holds one.
   bool any_reached(const PreparedJoint& pj, double tol, std::vector<std::uint8_t>& mask) const {
+    constexpr std::size_t kChunk = 32;
     const std::size_t n = size();
-    mask.resize(n);
-    reach_mask(ReachQuery(pj, tol), x_.data(), y_.data(), z_.data(), r_.data(), n, mask.data());
-    return std::find(mask.begin(), mask.end(), std::uint8_t(1)) != mask.end();
+    const ReachQuery q(pj, tol);
+    mask.resize(kChunk);
+    for (std::size_t begin = 0; begin < n; begin += kChunk) {
+      const std::size_t len = std::min(kChunk, n - begin);
+      reach_mask(q, x_.data() + begin, y_.data() + begin, z_.data() + begin, r_.data() + begin, len,
+                 mask.data());
+      const auto end = mask.begin() + std::ptrdiff_t(len);
+      if (std::find(mask.begin(), end, std::uint8_t(1)) != end) return true;
+    }
+    return false;
   }
 
  private:
@@ -148,6 +167,9 @@ class SphereGroup {
     lo_ = lo_.cwiseMin(c - r);
     hi_ = hi_.cwiseMax(c + r);
     spheres_.push_back(s);
+    c_ = 0.5 * (lo_ + hi_);
+    h_ = 0.5 * (hi_ - lo_);
+    extent_ = c_.cwiseAbs().maxCoeff() + h_.maxCoeff();
   }
   const Vec3& lo() const { return lo_; }
   const Vec3& hi() const { return hi_; }
@@ -156,9 +178,8 @@ class SphereGroup {
   /// (by far more than their rounding), so they rule out only joints it would.
   bool may_reach(const PreparedJoint& pj, double tol, std::vector<std::uint8_t>& mask) const {
     if (spheres_.size() == 0) return false;
-    const Vec3 c = 0.5 * (lo_ + hi_), h = 0.5 * (hi_ - lo_);
-    const double slack =
-        tol + 1e-9 * (c.cwiseAbs().maxCoeff() + h.maxCoeff() + std::abs(pj.plane.d));
+    const Vec3 &c = c_, &h = h_;
+    const double slack = tol + 1e-9 * (extent_ + std::abs(pj.plane.d));
     // A sphere inside the box lies as far from the plane as the box, or farther.
     if (std::abs(pj.plane.distance(c)) > pj.plane.normal.cwiseAbs().dot(h) + slack) return false;
     // ... and as far from the polygon's centre, plus its radius; its box is inside this one.
@@ -174,6 +195,8 @@ class SphereGroup {
 
  private:
   Vec3 lo_ = Vec3::Constant(INFINITY), hi_ = Vec3::Constant(-INFINITY);
+  Vec3 c_ = Vec3::Zero(), h_ = Vec3::Zero();  // the box's centre and half sizes
+  double extent_ = 0;                         // max |c_| + max h_, for the slack
   SphereList spheres_;
 };
 
