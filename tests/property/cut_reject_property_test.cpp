@@ -340,21 +340,28 @@ std::string lattice_scene(std::uint64_t seed) {
 
 /// Cuts with and without the shortcuts: the same blocks, bit for bit, and fewer cut LPs.
 void check_same_blocks(const std::string& scene, std::size_t& lps_with, std::size_t& lps_without,
-                       std::size_t& settled) {
+                       std::size_t& settled, std::size_t* by_limit = nullptr) {
   const auto js = slice::generate_joints(slice::parse_scene(scene, "scene.toml"));
   slice::CutOptions with, without;
   without.use_shortcuts = false;
   const auto a = slice::cut_blocks(js, with), b = slice::cut_blocks(js, without);
   test::check_same(a.blocks, b.blocks);
   CHECK(a.stats.splits == b.stats.splits);
-  CHECK(a.stats.splits_undone == b.stats.splits_undone);
+  // A pair the size limit settles before the LP (settled_by_limit) is a split undone without
+  // the shortcuts if the plane cuts the block, and no split if it does not.
+  CHECK(a.stats.splits_undone <= b.stats.splits_undone);
+  CHECK(b.stats.splits_undone <= a.stats.splits_undone + a.stats.settled_by_limit);
   CHECK(a.stats.pairs_skipped == b.stats.pairs_skipped);
-  CHECK(b.stats.rejected_plane + b.stats.rejected_box + b.stats.rejected_faces == 0);
-  const std::size_t s = a.stats.rejected_plane + a.stats.rejected_box + a.stats.rejected_faces;
+  CHECK(b.stats.rejected_plane + b.stats.rejected_box + b.stats.rejected_faces +
+            b.stats.settled_by_limit ==
+        0);
+  const std::size_t s = a.stats.rejected_plane + a.stats.rejected_box + a.stats.rejected_faces +
+                        a.stats.settled_by_limit;
   CHECK(a.stats.lps.cut_test + s == b.stats.lps.cut_test);
   lps_with += a.stats.lps.cut_test;
   lps_without += b.stats.lps.cut_test;
   settled += s;
+  if (by_limit) *by_limit += a.stats.settled_by_limit;
 }
 
 }  // namespace
@@ -385,6 +392,30 @@ TEST_CASE("the shortcuts change no block of degenerate lattice scenes", "[proper
   summary << without << " cut LPs without the shortcuts, " << with << " with";
   SUCCEED(summary.str());  // shown with -s
   CHECK(settled > 0);
+}
+
+// A pair whose split the size limit would undo, a piece between the plane and a parallel face
+// thinner than min_inscribed_diameter by the margin, skips the cut LP (settled_by_limit): the
+// blocks must be those every pair to the LP gives. The lattice scenes put planes 0.5 apart, on
+// the domain's faces and on each other's (limits 0.3, 0.5 = the step itself, 0.6, 1.1); the
+// random ones tilt them.
+TEST_CASE("pairs the size limit settles before the cut LP change no block",
+          "[property][cut][reject]") {
+  const long n = test::scaled_cases(40);
+  std::size_t with = 0, without = 0, settled = 0, by_limit = 0;
+  for (long seed = 1; seed <= n; ++seed)
+    for (const char* min_d : {"0.3", "0.5", "0.6", "1.1"}) {
+      const std::string scene = "[options]\nmin_inscribed_diameter = " + std::string(min_d) + "\n" +
+                                (seed % 2 ? lattice_scene(std::uint64_t(seed))
+                                          : random_polygon_scene(std::uint64_t(seed)));
+      CAPTURE(seed, scene);
+      check_same_blocks(scene, with, without, settled, &by_limit);
+    }
+  std::ostringstream summary;
+  summary << without << " cut LPs without the shortcuts, " << with << " with, " << by_limit
+          << " pairs settled by the size limit";
+  SUCCEED(summary.str());  // shown with -s
+  CHECK(by_limit > 0);
 }
 
 // parallel_slab_width (slice-cut's early size limit, issue 29): a block split by a plane

@@ -38,6 +38,7 @@ void check_same_figures(const Run& a, const Run& b) {
   CHECK(x.blocks == y.blocks);
   CHECK(x.splits == y.splits);
   CHECK(x.splits_undone == y.splits_undone);
+  CHECK(x.settled_by_limit == y.settled_by_limit);
   CHECK(x.pairs_skipped == y.pairs_skipped);
   CHECK(x.boundary == y.boundary);
   CHECK(x.removed == y.removed);

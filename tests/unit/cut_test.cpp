@@ -159,7 +159,10 @@ TEST_CASE("size and shape limits undo a split", "[cut][limits]") {
       cut(kUnitCube + opt + joint(90, 90, {0.1, 0.5, 0.5}) + joint(90, 90, {0.5, 0.5, 0.5}), true,
           slice::LpBackend::native, &st);
   CHECK(bs.blocks.size() == 2);
-  CHECK(st.splits_undone == 1);
+  // A slab beside a parallel face: settled before the cut LP (whether or not it cuts).
+  CHECK(st.splits_undone == 0);
+  CHECK(st.settled_by_limit == 1);
+  CHECK(st.lps.cut_test == 1);  // x = 0.5 only
   const std::string aspect = "[options]\nmax_aspect_ratio = 3\n";
   const auto bs2 =
       cut(kUnitCube + aspect + joint(90, 90, {0.2, 0.5, 0.5}), true, slice::LpBackend::native, &st);
@@ -410,12 +413,13 @@ TEST_CASE("limits = false keeps the cuts of an exempt joint", "[cut][limits]") {
       cut(kUnitCube + opt + joint(90, 90, {0.1, 0.5, 0.5}) + joint(90, 90, {0.5, 0.5, 0.5}), true,
           slice::LpBackend::native, &st);
   CHECK(normal.blocks.size() == 2);
-  CHECK(st.splits_undone == 1);
+  CHECK(st.settled_by_limit == 1);  // before the cut LP: a slab beside a parallel face
   const auto exempt = cut(kUnitCube + opt + joint(90, 90, {0.1, 0.5, 0.5}, "limits = false\n") +
                               joint(90, 90, {0.5, 0.5, 0.5}),
                           true, slice::LpBackend::native, &st);
   REQUIRE(exempt.blocks.size() == 3);
   CHECK(st.splits_undone == 0);
+  CHECK(st.settled_by_limit == 0);
   CHECK(exempt.joints.joints.at(0).limits == false);
   // A later joint that would split the thin slab is still bound by the limit: y = 0.5 cuts the
   // two thick blocks but not the 0.1 m slab (its halves would be 0.1 m thin).

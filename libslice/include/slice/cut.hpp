@@ -63,6 +63,11 @@ struct CutStats {
   // test that did: the plane against the block's box, the polygon's box against it, the
   // polygon clipped by the block's faces.
   std::size_t rejected_plane = 0, rejected_box = 0, rejected_faces = 0;
+  // Pairs past those whose split the size limit would undo whether or not the plane cuts (a
+  // piece between it and a parallel face of the block thinner than min_inscribed_diameter),
+  // settled without the cut LP (use_shortcuts; native backend; not a boundary joint). Not in
+  // splits_undone, which counts the splits made and then undone.
+  std::size_t settled_by_limit = 0;
   std::size_t boundary = 0, removed = 0, clusters = 0;
   std::size_t fixed = 0;  // blocks on a face named in [options] fixed_faces
   // Slivers: free blocks (kept, in no cluster) under the size or shape limits, left by cuts

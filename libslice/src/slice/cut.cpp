@@ -182,6 +182,7 @@ class Subdivision {
   std::size_t splits = 0, splits_undone = 0;
   std::size_t tested = 0;  // joint-block pairs past the index (to the cut LP or settled)
   std::array<std::size_t, 4> rejected{};  // pairs settled without the LP, by CutReject
+  std::size_t settled_by_limit = 0;       // CutStats::settled_by_limit
 
   /// The extremes of a split block (`parent`) that lie well inside the piece with new face
   /// `plane` (both in the piece's frame): the piece has the same extremes there, without an LP.
@@ -260,6 +261,10 @@ class Subdivision {
       ++tested;
       const CutReject settled = reject(pj, i, plane);
       if (settled != CutReject::none) ++rejected[std::size_t(settled)];
+      if (settled == CutReject::none && undone_either_way(joint, b, plane, referee)) {
+        ++settled_by_limit;
+        continue;
+      }
       CutTest t;  // no cut, when geometry settled it
       t.status = LpStatus::optimal;
       if (settled == CutReject::none) {
@@ -385,6 +390,37 @@ class Subdivision {
     if (plane_local.distance(c.centre) * joint.boundary_side > 0) b.flags |= kBoundary;
   }
 
+  /// Whether the size limit would undo a split of block `b` by joint `joint` (its plane in the
+  /// block's frame) and the pair may skip the cut LP: a piece between the plane and a parallel face
+  /// of the block is thinner than the limit by the margin early_limits uses (the same test,
+  /// moved before the LP). Cut or not, nothing changes then: an undone split keeps the block, and
+  /// a plane that misses it keeps it too. Not for a boundary joint (a block it misses is flagged
+  /// by its side), nor without the shortcuts (every pair then goes to the LP).
+  bool undone_either_way(const Joint& joint, const Block& b, const Plane& plane,
+                         Referee& referee) const {
+    const double min_d = ctx_.js.options.min_inscribed_diameter;
+    if (!ctx_.opt.use_shortcuts || !ctx_.limits || !joint.limits ||
+        joint.kind == JointKind::boundary || ctx_.opt.backend != LpBackend::native || min_d <= 0)
+      return false;
+    return thin_slab(b.faces, plane, referee);
+  }
+
+  /// How far clear of min_inscribed_diameter a size settled without the child's own LP must be:
+  /// twice the band in which limit_ball decides again exactly, plus 1e-7 of the limit.
+  static double limit_margin(Referee& referee, double min_d) {
+    return 2 * referee.limit_band(min_d) + 1e-7 * min_d;
+  }
+
+  /// A child between `plane` and a parallel face of a block with `faces` (a joint of the same
+  /// set) is no thicker than their distance apart: true if that is thinner than the limit by more
+  /// than the margin and the geometry tolerance (far more than the LP's rounding), so that the
+  /// child's LP would say so too.
+  bool thin_slab(std::span<const Face> faces, const Plane& plane, Referee& referee) const {
+    const double min_d = ctx_.js.options.min_inscribed_diameter;
+    return parallel_slab_width(faces, plane) <
+           min_d - limit_margin(referee, min_d) - ctx_.tol.geometry;
+  }
+
   /// Splits block i by the plane of joint j (block frame). False if undone.
   bool split(std::size_t i, std::size_t j, const Plane& plane, Referee& referee) {
     const Joint& joint = ctx_.js.joints[j];
@@ -448,12 +484,9 @@ class Subdivision {
                     std::array<double, 2>& early, Extremes& below, Extremes& above) {
     const double min_d = ctx_.js.options.min_inscribed_diameter;
     if (ctx_.opt.backend != LpBackend::native || min_d <= 0) return true;
-    const double margin = 2 * referee.limit_band(min_d) + 1e-7 * min_d;
-    // A child between the new face and a parallel face of the block (a joint of the same set)
-    // is no thicker than their distance apart: thinner than the limit by more than the margin
-    // and the geometry tolerance (far more than the LP's rounding), its LP would say so too.
-    if (parallel_slab_width(blocks[i].faces, plane) < min_d - margin - ctx_.tol.geometry)
-      return false;
+    const double margin = limit_margin(referee, min_d);
+    // Pairs of other joints met this before the cut LP (undone_either_way).
+    if (thin_slab(blocks[i].faces, plane, referee)) return false;
     for (std::size_t k = 0; k < 2; ++k) {
       const double sign = k == 0 ? 1.0 : -1.0;
       Extremes& child = k == 0 ? below : above;
@@ -735,6 +768,7 @@ class Cutter {
       stats_.rejected_plane += s.rejected[std::size_t(CutReject::plane)];
       stats_.rejected_box += s.rejected[std::size_t(CutReject::box)];
       stats_.rejected_faces += s.rejected[std::size_t(CutReject::faces)];
+      stats_.settled_by_limit += s.settled_by_limit;
       for (const std::size_t j : s.joints_that_cut) cut[j] = 1;
       for (const SplitEvent& e : s.events) ++splits_at[e.joint];
     }
