@@ -47,16 +47,14 @@ void check_runs(std::span<const Block> blocks,
                 const std::function<void(std::size_t, std::size_t, std::size_t)>& check,
                 bool concurrent) {
   constexpr std::size_t kRun = 4096;
-  const std::size_t runs = (blocks.size() + kRun - 1) / kRun;
-  std::vector<std::size_t> first_face(runs + 1, 0);
-  for (std::size_t r = 0; r < runs; ++r)
-    first_face[r + 1] = first_face[r] + face_count(blocks.subspan(
-                                            r * kRun, std::min(kRun, blocks.size() - r * kRun)));
-  if (runs <= 1 || !concurrent) {  // a small file: no tasks
-    for (std::size_t r = 0; r < runs; ++r)
-      check(r * kRun, std::min(blocks.size(), (r + 1) * kRun), first_face[r]);
+  if (!concurrent || blocks.size() <= kRun) {  // one run, on this thread
+    if (!blocks.empty()) check(0, blocks.size(), 0);
     return;
   }
+  const std::size_t runs = (blocks.size() + kRun - 1) / kRun;
+  std::vector<std::size_t> first_face(runs, 0);
+  for (std::size_t r = 1; r < runs; ++r)
+    first_face[r] = first_face[r - 1] + face_count(blocks.subspan((r - 1) * kRun, kRun));
   std::vector<std::exception_ptr> failure(runs);
   tbb::parallel_for(std::size_t(0), runs, [&](std::size_t r) {
     try {
