@@ -485,7 +485,8 @@ class Subdivision {
     const double min_d = ctx_.js.options.min_inscribed_diameter;
     if (ctx_.opt.backend != LpBackend::native || min_d <= 0) return true;
     const double margin = limit_margin(referee, min_d);
-    // Pairs of other joints met this before the cut LP (undone_either_way).
+    // Other pairs met this test before the cut LP (undone_either_way): here only those of a
+    // boundary joint, or every pair without the shortcuts.
     if (thin_slab(blocks[i].faces, plane, referee)) return false;
     for (std::size_t k = 0; k < 2; ++k) {
       const double sign = k == 0 ? 1.0 : -1.0;
