@@ -2,6 +2,7 @@
 
 #include <lz4.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_group.h>
 #include <sys/types.h>
 #include <zlib.h>
 
@@ -65,6 +66,13 @@ File::File(const std::filesystem::path& path, std::string what, VtuCompressor co
 }
 
 File::~File() {
+  if (flying_) {  // an error elsewhere: the task must end before its buffers go
+    compressing_.cancel();
+    try {
+      compressing_.wait();
+    } catch (...) {
+    }
+  }
   if (f_) std::fclose(f_);
 }
 
@@ -149,23 +157,39 @@ void File::put(const void* data, std::size_t bytes) {
   if (pending_.size() >= kBatchBlocks * kBlock) flush_blocks(false);
 }
 
-/// Compresses the pending full blocks (and, if `last`, the partial one) in parallel and
-/// writes them in order.
+/// Hands the pending full blocks (and, if `last`, the partial one) to a task that compresses
+/// them in parallel, after writing the batch before (in order); `last` waits for this one too.
 void File::flush_blocks(bool last) {
   const std::size_t full = pending_.size() / kBlock;
   const std::size_t count = full + (last && pending_.size() % kBlock ? 1 : 0);
-  if (count == 0) return;
-  std::vector<std::vector<unsigned char>> out(count);
-  tbb::parallel_for(std::size_t(0), count, [&](std::size_t k) {
-    const std::size_t lo = k * kBlock, n = std::min(kBlock, pending_.size() - lo);
-    compress_block(compressor_, pending_.data() + lo, n, out[k]);
-  });
-  for (const auto& o : out) {
+  land();
+  if (count > 0) {
+    // The batch's bytes move to flight_; the rest of a block stays pending.
+    const std::size_t bytes = std::min(pending_.size(), count * kBlock);
+    flight_.swap(pending_);
+    pending_.assign(flight_.begin() + std::ptrdiff_t(bytes), flight_.end());
+    flight_.resize(bytes);
+    flight_out_.resize(count);
+    flying_ = true;
+    compressing_.run([this, count] {
+      tbb::parallel_for(std::size_t(0), count, [&](std::size_t k) {
+        const std::size_t lo = k * kBlock, n = std::min(kBlock, flight_.size() - lo);
+        compress_block(compressor_, flight_.data() + lo, n, flight_out_[k]);
+      });
+    });
+  }
+  if (last) land();
+}
+
+/// Waits for the batch in flight (rethrowing its error) and writes its blocks.
+void File::land() {
+  if (!flying_) return;
+  flying_ = false;
+  compressing_.wait();
+  for (const auto& o : flight_out_) {
     write(o.data(), o.size());
     block_sizes_.push_back(o.size());
   }
-  pending_.erase(pending_.begin(),
-                 pending_.begin() + std::ptrdiff_t(std::min(pending_.size(), count * kBlock)));
 }
 
 void File::end_array() {

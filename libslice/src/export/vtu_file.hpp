@@ -2,8 +2,11 @@
 // A VTK XML unstructured-grid file written as it is made (VTK 9's file format, version 1.0):
 // the XML header first, with every array's offset left blank, then the arrays' data one after
 // the other in the appended section, each compressed in blocks of 32 KiB as they come (blocks
-// compressed in parallel, batch by batch), then the offsets filled in. Memory: one batch, not
-// the grid. The same values give the same bytes, on any number of threads.
+// compressed in parallel, batch by batch, while the caller makes the next batch), then the
+// offsets filled in. Memory: two batches, not the grid. The same values give the same bytes, on
+// any number of threads.
+#include <oneapi/tbb/task_group.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -63,6 +66,7 @@ class File {
  private:
   void write(const void* data, std::size_t bytes);
   void flush_blocks(bool last);
+  void land();
   void seek_write(std::int64_t at, const void* data, std::size_t bytes);
 
   std::FILE* f_ = nullptr;
@@ -76,6 +80,12 @@ class File {
   std::int64_t array_header_at_ = 0;
   std::vector<std::uint64_t> block_sizes_;  // compressed size of each block written so far
   std::vector<unsigned char> pending_;      // raw bytes not yet compressed
+  // The batch being compressed (a task of `compressing_`, on the caller's arena) while the
+  // caller makes the next one: its raw bytes and its compressed blocks.
+  std::vector<unsigned char> flight_;
+  std::vector<std::vector<unsigned char>> flight_out_;
+  tbb::task_group compressing_;
+  bool flying_ = false;
 };
 
 }  // namespace slice::vtu

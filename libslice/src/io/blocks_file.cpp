@@ -1,3 +1,7 @@
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_group.h>
+
 #include <algorithm>
 #include <condition_variable>
 #include <cstdint>
@@ -99,39 +103,84 @@ void write_blocks_group(const Group& root, const BlockSystem& bs) {
   auto bsphere = g.create_rows<double>("bsphere", n, 4);
   auto flags = g.create_rows<std::uint8_t>("flags", n, 0);
   auto cluster = g.create_rows<std::int64_t>("cluster", n, 0);
-  std::vector<double> o, fn, fd, ir, bsph;
-  std::vector<std::int64_t> off{0}, fj, cl;
-  std::vector<std::uint8_t> fl;
-  std::int64_t face_row = 0;
-  for (std::size_t b0 = 0; b0 < n; b0 += kBatch) {
-    o.clear(), fn.clear(), fd.clear(), ir.clear(), bsph.clear(), fj.clear(), cl.clear(), fl.clear();
-    if (b0 > 0) off.clear();
-    for (std::size_t i = b0; i < std::min(n, b0 + kBatch); ++i) {
-      const Block& b = bs.blocks[i];
-      o.insert(o.end(), b.origin.data(), b.origin.data() + 3);
-      for (const Face& f : b.faces) {
-        fn.insert(fn.end(), f.normal.data(), f.normal.data() + 3);
-        fd.push_back(f.d);
-        fj.push_back(f.joint);
-      }
-      face_row += static_cast<std::int64_t>(b.faces.size());
-      off.push_back(face_row);
-      ir.push_back(b.inradius);
-      bsph.insert(bsph.end(), b.bsphere.data(), b.bsphere.data() + 4);
-      fl.push_back(b.flags);
-      cl.push_back(b.cluster);
-    }
-    origin.append(o);
-    face_offset.append(off);
-    face_normal.append(fn);
-    face_d.append(fd);
-    face_joint.append(fj);
-    inradius.append(ir);
-    bsphere.append(bsph);
-    flags.append(fl);
-    cluster.append(cl);
+  // In runs of kBatch blocks: a run's rows are gathered on the other threads while this one
+  // writes the run before (HDF5 writes on one thread only).
+  struct Run {
+    std::size_t b0 = 0, b1 = 0;
+    std::vector<double> o, fn, fd, ir, bsph;
+    std::vector<std::int64_t> off, fj, cl;
+    std::vector<std::uint8_t> fl;
+  };
+  // Run r from block b0, whose first face is the file's row `base`.
+  const auto gather = [&](Run& r, std::size_t b0, std::int64_t base) {
+    r.b0 = b0;
+    r.b1 = std::min(n, b0 + kBatch);
+    const std::size_t m = r.b1 - r.b0;
+    // face_offset has a leading 0 in the first run only.
+    const std::size_t lead = b0 == 0 ? 1 : 0;
+    r.off.resize(m + lead);
+    if (lead) r.off[0] = 0;
+    std::int64_t row = 0;  // within the run
+    for (std::size_t i = 0; i < m; ++i)
+      r.off[lead + i] = row += std::int64_t(bs.blocks[b0 + i].faces.size());
+    const auto nf = static_cast<std::size_t>(row);
+    r.o.resize(3 * m), r.ir.resize(m), r.bsph.resize(4 * m), r.fl.resize(m), r.cl.resize(m);
+    r.fn.resize(3 * nf), r.fd.resize(nf), r.fj.resize(nf);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 1024),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          const Block& b = bs.blocks[b0 + i];
+                          for (int k = 0; k < 3; ++k) r.o[3 * i + k] = b.origin[k];
+                          std::size_t f =
+                              static_cast<std::size_t>(r.off[lead + i]) - b.faces.size();
+                          for (const Face& face : b.faces) {
+                            for (int k = 0; k < 3; ++k) r.fn[3 * f + k] = face.normal[k];
+                            r.fd[f] = face.d;
+                            r.fj[f] = face.joint;
+                            ++f;
+                          }
+                          r.ir[i] = b.inradius;
+                          for (int k = 0; k < 4; ++k) r.bsph[4 * i + k] = b.bsphere[k];
+                          r.fl[i] = b.flags;
+                          r.cl[i] = b.cluster;
+                        }
+                      });
+    for (std::size_t i = lead; i < r.off.size(); ++i) r.off[i] += base;
+  };
+  const auto put = [&](const Run& r) {
+    origin.append(r.o);
+    face_offset.append(r.off);
+    face_normal.append(r.fn);
+    face_d.append(r.fd);
+    face_joint.append(r.fj);
+    inradius.append(r.ir);
+    bsphere.append(r.bsph);
+    flags.append(r.fl);
+    cluster.append(r.cl);
+  };
+  Run runs[2];
+  if (n == 0) {
+    runs[0].off = {0};
+    face_offset.append(runs[0].off);
   }
-  if (n == 0) face_offset.append(off);
+  tbb::task_group gathering;  // the next run, while this thread writes one
+  try {
+    if (n > 0) gather(runs[0], 0, 0);
+    for (std::size_t b0 = 0, k = 0; b0 < n; b0 += kBatch, ++k) {
+      if (b0 + kBatch < n)
+        gathering.run([&gather, run = &runs[(k + 1) % 2], next = b0 + kBatch,
+                       base = runs[k % 2].off.back()] { gather(*run, next, base); });
+      put(runs[k % 2]);
+      gathering.wait();
+    }
+  } catch (...) {
+    gathering.cancel();
+    try {
+      gathering.wait();
+    } catch (...) {  // the write's error is the one to report
+    }
+    throw;
+  }
   for (auto* w : {&origin, &face_normal, &face_d, &inradius, &bsphere}) w->finish();
   for (auto* w : {&face_offset, &face_joint, &cluster}) w->finish();
   flags.finish();
@@ -173,36 +222,63 @@ std::vector<Block> read_blocks_group(const Group& root, bool& pruned) {
   const auto cluster = g.open_rows<std::int64_t>("cluster", 0);
   expect_rows(g, "cluster", cluster.rows(), n, because);
 
-  // In runs of kBatch blocks: the flat arrays are never held whole.
+  // In runs of kBatch blocks: the flat arrays are never held whole. A run's rows become blocks
+  // on the other threads while this one reads the next run (HDF5 reads on one thread only).
   std::vector<Block> blocks(n);
-  std::vector<double> o, fn, fd, ir, bsph;
-  std::vector<std::int64_t> fj, cl;
-  std::vector<std::uint8_t> fl;
-  for (std::size_t b0 = 0; b0 < n; b0 += kBatch) {
-    const std::size_t b1 = std::min(n, b0 + kBatch);
-    const auto f0 = static_cast<std::size_t>(offset[b0]);
-    const auto f1 = static_cast<std::size_t>(offset[b1]);
-    read_run(origin, b0, b1, 3, o);
-    read_run(face_normal, f0, f1, 3, fn);
-    read_run(face_d, f0, f1, 1, fd);
-    read_run(face_joint, f0, f1, 1, fj);
-    read_run(inradius, b0, b1, 1, ir);
-    read_run(bsphere, b0, b1, 4, bsph);
-    read_run(flags, b0, b1, 1, fl);
-    read_run(cluster, b0, b1, 1, cl);
-    for (std::size_t b = b0; b < b1; ++b) {
-      Block& blk = blocks[b];
-      const std::size_t i = b - b0;
-      blk.origin = vec3(o, i);
-      const auto k0 = static_cast<std::size_t>(offset[b]) - f0;
-      const auto k1 = static_cast<std::size_t>(offset[b + 1]) - f0;
-      blk.faces.reserve(k1 - k0);
-      for (std::size_t k = k0; k < k1; ++k) blk.faces.push_back({vec3(fn, k), fd[k], fj[k]});
-      blk.inradius = ir[i];
-      blk.bsphere = {bsph[4 * i], bsph[4 * i + 1], bsph[4 * i + 2], bsph[4 * i + 3]};
-      blk.flags = fl[i];
-      blk.cluster = cl[i];
+  struct Run {
+    std::size_t b0 = 0, b1 = 0, f0 = 0;
+    std::vector<double> o, fn, fd, ir, bsph;
+    std::vector<std::int64_t> fj, cl;
+    std::vector<std::uint8_t> fl;
+  };
+  const auto make_blocks = [&](const Run& r) {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(r.b0, r.b1, 1024),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t b = range.begin(); b != range.end(); ++b) {
+            Block& blk = blocks[b];
+            const std::size_t i = b - r.b0;
+            blk.origin = vec3(r.o, i);
+            const auto k0 = static_cast<std::size_t>(offset[b]) - r.f0;
+            const auto k1 = static_cast<std::size_t>(offset[b + 1]) - r.f0;
+            blk.faces.reserve(k1 - k0);
+            for (std::size_t k = k0; k < k1; ++k)
+              blk.faces.push_back({vec3(r.fn, k), r.fd[k], r.fj[k]});
+            blk.inradius = r.ir[i];
+            blk.bsphere = {r.bsph[4 * i], r.bsph[4 * i + 1], r.bsph[4 * i + 2], r.bsph[4 * i + 3]};
+            blk.flags = r.fl[i];
+            blk.cluster = r.cl[i];
+          }
+        });
+  };
+  Run runs[2];
+  tbb::task_group making;  // at most one run's make_blocks at a time
+  try {
+    for (std::size_t b0 = 0, k = 0; b0 < n; b0 += kBatch, ++k) {
+      Run& r = runs[k % 2];  // the run before last used it: made already
+      r.b0 = b0;
+      r.b1 = std::min(n, b0 + kBatch);
+      r.f0 = static_cast<std::size_t>(offset[r.b0]);
+      const auto f1 = static_cast<std::size_t>(offset[r.b1]);
+      read_run(origin, r.b0, r.b1, 3, r.o);
+      read_run(face_normal, r.f0, f1, 3, r.fn);
+      read_run(face_d, r.f0, f1, 1, r.fd);
+      read_run(face_joint, r.f0, f1, 1, r.fj);
+      read_run(inradius, r.b0, r.b1, 1, r.ir);
+      read_run(bsphere, r.b0, r.b1, 4, r.bsph);
+      read_run(flags, r.b0, r.b1, 1, r.fl);
+      read_run(cluster, r.b0, r.b1, 1, r.cl);
+      making.wait();
+      making.run([&make_blocks, run = &r] { make_blocks(*run); });
     }
+    making.wait();
+  } catch (...) {
+    making.cancel();
+    try {
+      making.wait();
+    } catch (...) {  // the read's error is the one to report
+    }
+    throw;
   }
   return blocks;
 }
@@ -376,16 +452,35 @@ BlockSystem read_blocks(const fs::path& in) {
   BlockSystem bs;
   bs.joints = read_joint_groups(f.root());
   bs.blocks = read_blocks_group(f.root(), bs.pruned);
-  if (f.root().exists("geometry")) {
-    try {
-      bs.geometry = read_geometry_group(f.root(), bs.blocks);
-    } catch (const Error& e) {  // slice-vertices wrote /geometry, not slice-cut
-      if (e.fix() != kBlocksFix) throw;
-      throw Error(e.where(), e.problem(), kGeometryFix);
-    }
+  const auto blocks_checked = [&] { check_blocks(Checker(in.string(), kBlocksFix), bs, false); };
+  if (!f.root().exists("geometry")) {
+    blocks_checked();
+    return bs;
   }
-  check_blocks(Checker(in.string(), kBlocksFix), bs, false);
-  if (bs.geometry) check_geometry(Checker(in.string(), kGeometryFix), bs);
+  // The blocks are checked on the other threads while this one reads /geometry. An error in
+  // reading /geometry is reported first, as when the two ran one after the other.
+  tbb::task_group checking;
+  checking.run(blocks_checked);
+  try {
+    bs.geometry = read_geometry_group(f.root(), bs.blocks);
+  } catch (const Error& e) {  // slice-vertices wrote /geometry, not slice-cut
+    checking.cancel();
+    try {
+      checking.wait();
+    } catch (...) {
+    }
+    if (e.fix() != kBlocksFix) throw;
+    throw Error(e.where(), e.problem(), kGeometryFix);
+  } catch (...) {
+    checking.cancel();
+    try {
+      checking.wait();
+    } catch (...) {
+    }
+    throw;
+  }
+  checking.wait();
+  check_geometry(Checker(in.string(), kGeometryFix), bs);
   return bs;
 }
 
