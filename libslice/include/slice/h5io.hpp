@@ -72,11 +72,13 @@ void write_blocks(const std::filesystem::path& out, const BlockSystem& bs, const
                   const WriteOptions& opt = {});
 BlockSystem read_blocks(const std::filesystem::path& in);
 
-/// write_blocks while /geometry is computed (slice-vertices): the constructor checks the joints
-/// and blocks and writes them (and the header) to `out`'s .partial on a thread of its own, which
-/// then writes the runs of /geometry that geometry_sink() is given (compute_geometry's sink), each
-/// checked against its blocks, as they come. finish() waits for that (or, if no sink was asked
-/// for, checks and writes bs.geometry, if any) and renames the file onto `out`. The bytes are
+/// write_blocks while /geometry is computed (slice-vertices): the constructor starts writing the
+/// joints and blocks (and the header) to `out`'s .partial on a thread of its own, which then
+/// writes the runs of /geometry that geometry_sink() is given (compute_geometry's sink), each
+/// checked against its blocks, as they come; the joints and blocks are checked meanwhile on the
+/// caller's threads. finish() waits for all that (or, if no sink was asked for, checks and writes
+/// bs.geometry, if any), throws the first error (the blocks' check first) and renames the file
+/// onto `out`. The bytes are
 /// write_blocks'. Until finish() returns, nothing of bs may change but bs.geometry (and that only
 /// if no sink was asked for). Errors of the writing thread are thrown by finish(); destroyed
 /// unfinished, it waits for the thread and removes the .partial.

@@ -6,6 +6,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <exception>
 #include <future>
 #include <limits>
 #include <mutex>
@@ -19,6 +20,15 @@
 namespace slice::h5file {
 
 namespace {
+
+// Waits for the tasks of `g`, dropping their errors (another error is on its way).
+void abandon(tbb::task_group& g) {
+  g.cancel();
+  try {
+    g.wait();
+  } catch (...) {
+  }
+}
 
 // A face that names a joint lies on that joint's plane: it was cut by it (or by its sliver
 // rule's merge, which keeps the faces). Its normal is the joint's or the opposite, and its plane
@@ -174,11 +184,7 @@ void write_blocks_group(const Group& root, const BlockSystem& bs) {
       gathering.wait();
     }
   } catch (...) {
-    gathering.cancel();
-    try {
-      gathering.wait();
-    } catch (...) {  // the write's error is the one to report
-    }
+    abandon(gathering);  // the write's error is the one to report
     throw;
   }
   for (auto* w : {&origin, &face_normal, &face_d, &inradius, &bsphere}) w->finish();
@@ -273,11 +279,7 @@ std::vector<Block> read_blocks_group(const Group& root, bool& pruned) {
     }
     making.wait();
   } catch (...) {
-    making.cancel();
-    try {
-      making.wait();
-    } catch (...) {  // the read's error is the one to report
-    }
+    abandon(making);  // the read's error is the one to report
     throw;
   }
   return blocks;
@@ -293,11 +295,22 @@ using namespace h5file;
 
 void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& prov,
                   const WriteOptions& opt) {
-  check_blocks(Checker(out.string(), kNotWritten), bs);
-  write_file(out, FileKind::blocks, prov, bs.joints, opt, [&](const Group& root) {
-    write_blocks_group(root, bs);
-    if (bs.geometry) write_geometry_group(root, bs);
-  });
+  // The blocks are checked on the other threads while this one writes the .partial file, which
+  // becomes `out` only if they pass. A check's error comes first, as when it ran first.
+  tbb::task_group checking;
+  checking.run([&] { check_blocks(Checker(out.string(), kNotWritten), bs); });
+  std::optional<OpenFile> file;
+  std::exception_ptr write_error;
+  try {
+    file.emplace(out, FileKind::blocks, prov, bs.joints, opt);
+    write_blocks_group(file->f.root(), bs);
+    if (bs.geometry) write_geometry_group(file->f.root(), bs);
+  } catch (...) {
+    write_error = std::current_exception();
+  }
+  checking.wait();
+  if (write_error) std::rethrow_exception(write_error);
+  file->commit();
 }
 
 // The bytes of a run's arrays.
@@ -321,6 +334,7 @@ struct BlocksFileWriter::Impl {
   std::string name;
   std::optional<OpenFile> file;
   std::future<void> writing;  // the header, joints, /blocks, then the runs of /geometry
+  tbb::task_group checking;   // /blocks, on the caller's threads, meanwhile
   std::mutex mutex;
   std::condition_variable ready;  // a run came, or no more will
   std::condition_variable taken;  // the writing thread took a run, or stopped
@@ -407,13 +421,16 @@ struct BlocksFileWriter::Impl {
 BlocksFileWriter::BlocksFileWriter(const fs::path& out, const BlockSystem& bs,
                                    const Provenance& prov, const WriteOptions& opt)
     : impl_(std::make_unique<Impl>(bs, out.string())) {
-  check_blocks(Checker(out.string(), kNotWritten), bs, false);
-  // A bad output path fails here, before any work; the large /blocks group is written meanwhile.
+  // A bad output path fails here, before any work; the large /blocks group is written meanwhile,
+  // and checked on the caller's threads (finish() waits for the check before the file is
+  // renamed onto `out`).
   impl_->file.emplace(out, FileKind::blocks, prov, bs.joints, opt);
   impl_->writing = std::async(std::launch::async, [&m = *impl_] { m.write(); });
+  impl_->checking.run([&m = *impl_] { check_blocks(Checker(m.name, kNotWritten), m.bs, false); });
 }
 
 BlocksFileWriter::~BlocksFileWriter() {
+  abandon(impl_->checking);
   if (!impl_->writing.valid()) return;
   {
     // Unfinished: the runs not yet written are not wanted.
@@ -440,6 +457,7 @@ GeometrySink BlocksFileWriter::geometry_sink() {
 
 void BlocksFileWriter::finish() {
   Impl& m = *impl_;
+  m.checking.wait();
   if (m.bs.geometry && !m.streamed) check_geometry(Checker(m.name, kNotWritten), m.bs);
   m.close();
   m.writing.get();
@@ -464,19 +482,11 @@ BlockSystem read_blocks(const fs::path& in) {
   try {
     bs.geometry = read_geometry_group(f.root(), bs.blocks);
   } catch (const Error& e) {  // slice-vertices wrote /geometry, not slice-cut
-    checking.cancel();
-    try {
-      checking.wait();
-    } catch (...) {
-    }
+    abandon(checking);
     if (e.fix() != kBlocksFix) throw;
     throw Error(e.where(), e.problem(), kGeometryFix);
   } catch (...) {
-    checking.cancel();
-    try {
-      checking.wait();
-    } catch (...) {
-    }
+    abandon(checking);
     throw;
   }
   checking.wait();
