@@ -208,3 +208,50 @@ TEST_CASE("slice-cut --no-shortcuts gives the same blocks with every pair to the
   // Issue 29's goal: at most 10 cut LPs per split (here: one per cut the LP makes, kept or not).
   CHECK(js["lps_cut_test"].get<std::size_t>() <= 10 * js["splits"].get<std::size_t>());
 }
+
+TEST_CASE("slice-cut --vertices writes the geom.h5 that slice-cut --prune and slice-vertices do",
+          "[tools][cut][vertices]") {
+  // One process for cut, prune and vertices: the same /blocks and /geometry, value for value, as
+  // the two stages (polygon sets; persistent sets with a removal zone and clusters; a section).
+  const std::string scene =
+      GENERATE(as<std::string>{}, "genesis-limestone.toml", "tunnel.toml", "vajont-section.toml");
+  CAPTURE(scene);
+  test::TempDir tmp;
+  const auto joints = test::run_pipeline(tmp, scene, test::Stage::joints);
+  const auto blocks = (tmp / "blocks.h5").string(), staged = (tmp / "staged.h5").string();
+  const auto one = (tmp / "one.h5").string(), stats = (tmp / "one.json").string();
+  REQUIRE(run_tool("slice-cut", {joints, "--prune", "-o", blocks}).exit_code == 0);
+  REQUIRE(run_tool("slice-vertices", {blocks, "-o", staged}).exit_code == 0);
+  const auto r = run_tool("slice-cut", {joints, "--vertices", "-o", one, "--stats", stats});
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  for (const char* group : {"/blocks", "/geometry", "/joints"})
+    CHECK(test::run_shell("h5diff -q " + test::shell_quote(staged) + " " + test::shell_quote(one) +
+                          " " + group + " " + group) == 0);
+  const auto a = slice::read_blocks(staged), b = slice::read_blocks(one);
+  test::check_same(a, b);
+  REQUIRE(a.geometry);
+  REQUIRE(b.geometry);
+  CHECK(a.geometry->volume == b.geometry->volume);
+  CHECK(a.geometry->face_vertices == b.geometry->face_vertices);
+  const auto j = nlohmann::json::parse(test::read_bytes(stats));
+  CHECK(j["vertices"].get<std::size_t>() == a.geometry->vertices.size());
+  CHECK(j["seconds_vertices"].get<double>() > 0);
+  CHECK(j["blocks"].get<std::size_t>() == a.blocks.size());
+}
+
+TEST_CASE("slice-cut --vertices writes geom.h5 by default and refuses what slice-cut refuses",
+          "[tools][cut][vertices]") {
+  test::TempDir tmp;
+  const auto joints = test::run_pipeline(tmp, "cube-3sets.toml", test::Stage::joints);
+  const auto cut = (std::filesystem::path(SLICE_TOOLS_DIR) / "slice-cut").string();
+  REQUIRE(test::run_shell("cd " + test::shell_quote(tmp.path()) + " && " + test::shell_quote(cut) +
+                          " -q joints.h5 --vertices") == 0);
+  const auto bs = slice::read_blocks(tmp / "geom.h5");
+  REQUIRE(bs.geometry);
+  CHECK(bs.pruned);
+  CHECK(bs.blocks.size() == 1000);
+  // The output may not be the input.
+  test::check_refused(run_tool("slice-cut", {joints, "--vertices", "-o", joints}), "slice-cut",
+                      {"joints.h5"});
+}
