@@ -74,11 +74,11 @@ BlockSystem read_blocks(const std::filesystem::path& in);
 
 /// write_blocks while /geometry is computed (slice-vertices): the constructor starts writing the
 /// joints and blocks (and the header) to `out`'s .partial on a thread of its own, which then
-/// writes the runs of /geometry that geometry_sink() is given (compute_geometry's sink), each
-/// checked against its blocks, as they come; the joints and blocks are checked meanwhile on the
-/// caller's threads. finish() waits for all that (or, if no sink was asked for, checks and writes
-/// bs.geometry, if any), throws the first error (the blocks' check first) and renames the file
-/// onto `out`. The bytes are
+/// writes the runs of /geometry that geometry_sink() is given (compute_geometry's sink), as they
+/// come; the sink checks each run against its blocks on the giver's thread (throwing the first
+/// error), and the joints and blocks are checked meanwhile on the caller's threads. finish() waits
+/// for all that (or, if no sink was asked for, checks and writes bs.geometry, if any), throws the
+/// first error (the blocks' check first) and renames the file onto `out`. The bytes are
 /// write_blocks'. Until finish() returns, nothing of bs may change but bs.geometry (and that only
 /// if no sink was asked for). Errors of the writing thread are thrown by finish(); destroyed
 /// unfinished, it waits for the thread and removes the .partial.
@@ -90,9 +90,9 @@ class BlocksFileWriter {
   BlocksFileWriter(const BlocksFileWriter&) = delete;
   BlocksFileWriter& operator=(const BlocksFileWriter&) = delete;
   /// Takes the runs of /geometry in block order (kGeometryRun blocks each, as compute_geometry
-  /// hands them over) and queues them for the writing thread, waiting only while the runs not
-  /// yet taken hold more than 256 MiB (deflate, --compress, is slower than the geometry). Once
-  /// the thread has stopped on an error, runs are dropped and finish() throws that error.
+  /// hands them over), checks each and queues it for the writing thread, waiting only while the
+  /// runs not yet taken hold more than 256 MiB (deflate, --compress, is slower than the geometry).
+  /// Once the thread has stopped on an error, runs are dropped and finish() throws that error.
   GeometrySink geometry_sink();
   void finish();
 

@@ -340,6 +340,7 @@ struct BlocksFileWriter::Impl {
   std::condition_variable taken;  // the writing thread took a run, or stopped
   std::deque<Geometry> runs;      // given by the sink, not yet taken
   std::size_t queued_bytes = 0;   // their run_bytes
+  GeometryBase given;             // where the next run given starts in the file
   bool streamed = false;          // geometry_sink() was asked for
   bool closed = false;            // no more runs will come
   bool abandoned = false;         // destroyed unfinished: write no more
@@ -361,7 +362,6 @@ struct BlocksFileWriter::Impl {
     const Group& root = file->f.root();
     write_blocks_group(root, bs);
     std::optional<GeometryWriter> geo;
-    const Checker c(name, kNotWritten);
     for (;;) {
       Geometry run;
       {
@@ -374,9 +374,7 @@ struct BlocksFileWriter::Impl {
       }
       taken.notify_one();
       if (!geo) geo.emplace(root, bs);
-      const std::size_t n = run.volume.size();
-      check_geometry(c, bs, run, geo->next(), n, vertex_tolerance(bs.joints, run.vertices), false);
-      geo->append(run, 0, 0, n);
+      geo->append(run, 0, 0, run.volume.size());  // checked by give()
     }
     if (abandoned) return;
     if (streamed && !geo) geo.emplace(root, bs);  // no blocks: empty datasets
@@ -386,6 +384,15 @@ struct BlocksFileWriter::Impl {
 
   // Queues a run, waiting while the queue is full; drops it once the thread has stopped.
   void give(Geometry&& run) {
+    // Checked against its blocks here, on the giver's thread (compute_geometry's, beside the
+    // next run's computing), so that the writing thread only writes and keeps up.
+    const std::size_t n = run.volume.size();
+    check_geometry(Checker(name, kNotWritten), bs, run, given, n,
+                   vertex_tolerance(bs.joints, run.vertices), false);
+    given.face += face_count(std::span(bs.blocks).subspan(given.block, n));
+    given.block += n;
+    given.vertex += std::int64_t(run.vertices.size());
+    given.face_vertex += std::int64_t(run.face_vertices.size());
     const std::size_t bytes = run_bytes(run);
     {
       std::unique_lock lock(mutex);
