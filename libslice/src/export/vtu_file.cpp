@@ -158,35 +158,50 @@ void File::put(const void* data, std::size_t bytes) {
 }
 
 /// Hands the pending full blocks (and, if `last`, the partial one) to a task that compresses
-/// them in parallel, after writing the batch before (in order); `last` waits for this one too.
+/// them in parallel, then writes the batch before (compressed meanwhile), in order; `last`
+/// waits for this one too.
 void File::flush_blocks(bool last) {
   const std::size_t full = pending_.size() / kBlock;
   const std::size_t count = full + (last && pending_.size() % kBlock ? 1 : 0);
-  land();
-  if (count > 0) {
-    // The batch's bytes move to flight_; the rest of a block stays pending.
-    const std::size_t bytes = std::min(pending_.size(), count * kBlock);
-    flight_.swap(pending_);
-    pending_.assign(flight_.begin() + std::ptrdiff_t(bytes), flight_.end());
-    flight_.resize(bytes);
-    flight_out_.resize(count);
-    flying_ = true;
-    compressing_.run([this, count] {
-      tbb::parallel_for(std::size_t(0), count, [&](std::size_t k) {
-        const std::size_t lo = k * kBlock, n = std::min(kBlock, flight_.size() - lo);
-        compress_block(compressor_, flight_.data() + lo, n, flight_out_[k]);
-      });
-    });
+  if (count == 0) {
+    land();
+    return;
   }
+  const Batch* before = nullptr;
+  if (flying_) {
+    compressing_.wait();  // rethrows its error
+    before = &batches_[flying_ - 1];
+  }
+  // This batch goes to the other buffers; the rest of a block stays pending.
+  const std::size_t slot = flying_ == 1 ? 1 : 0;
+  Batch& b = batches_[slot];
+  const std::size_t bytes = std::min(pending_.size(), count * kBlock);
+  b.raw.swap(pending_);
+  pending_.assign(b.raw.begin() + std::ptrdiff_t(bytes), b.raw.end());
+  b.raw.resize(bytes);
+  b.blocks.resize(count);
+  flying_ = slot + 1;
+  compressing_.run([this, &b, count] {
+    tbb::parallel_for(std::size_t(0), count, [&](std::size_t k) {
+      const std::size_t lo = k * kBlock, n = std::min(kBlock, b.raw.size() - lo);
+      compress_block(compressor_, b.raw.data() + lo, n, b.blocks[k]);
+    });
+  });
+  if (before) write_batch(*before);
   if (last) land();
 }
 
 /// Waits for the batch in flight (rethrowing its error) and writes its blocks.
 void File::land() {
   if (!flying_) return;
-  flying_ = false;
+  const Batch& b = batches_[flying_ - 1];
+  flying_ = 0;
   compressing_.wait();
-  for (const auto& o : flight_out_) {
+  write_batch(b);
+}
+
+void File::write_batch(const Batch& b) {
+  for (const auto& o : b.blocks) {
     write(o.data(), o.size());
     block_sizes_.push_back(o.size());
   }

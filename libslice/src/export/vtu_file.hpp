@@ -80,12 +80,17 @@ class File {
   std::int64_t array_header_at_ = 0;
   std::vector<std::uint64_t> block_sizes_;  // compressed size of each block written so far
   std::vector<unsigned char> pending_;      // raw bytes not yet compressed
-  // The batch being compressed (a task of `compressing_`, on the caller's arena) while the
-  // caller makes the next one: its raw bytes and its compressed blocks.
-  std::vector<unsigned char> flight_;
-  std::vector<std::vector<unsigned char>> flight_out_;
+  // A batch being compressed (a task of `compressing_`, on the caller's arena) while the caller
+  // makes the next one, and the batch before it, compressed, being written meanwhile: raw bytes
+  // and compressed blocks of each, alternating.
+  struct Batch {
+    std::vector<unsigned char> raw;
+    std::vector<std::vector<unsigned char>> blocks;
+  };
+  Batch batches_[2];
+  void write_batch(const Batch& b);
+  std::size_t flying_ = 0;  // batches_[flying_ - 1]: the one in flight (0: none)
   tbb::task_group compressing_;
-  bool flying_ = false;
 };
 
 }  // namespace slice::vtu
