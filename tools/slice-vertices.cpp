@@ -34,13 +34,17 @@ int main(int argc, char** argv) {
     if (!bs.pruned && !prune)
       throw slice::Error(in, "the blocks are not pruned (/blocks attribute pruned is 0)",
                          "run slice-prune on it first, or pass --prune");
-    if (!bs.pruned) {
+    const bool pruned_here = !bs.pruned;
+    if (pruned_here) {
       const auto ps =
           slice::prune_blocks(bs, slice::parse_lp_backend(backend), t.progress(), false, t.threads);
       t.say("pruned: faces " + std::to_string(ps.faces_before) + " -> " +
             std::to_string(ps.faces_after) + " (" + tool::fixed(ps.seconds, 3) + " s)");
     }
-    slice::BlocksFileWriter writer(out, bs, provenance.get(), t.write_options());
+    // Blocks pruned here are checked again as they are written; read ones were when read.
+    slice::BlocksFileWriter writer(out, bs, provenance.get(), t.write_options(),
+                                   pruned_here ? slice::BlocksFileWriter::Blocks::made
+                                               : slice::BlocksFileWriter::Blocks::read);
     const slice::GeometryStats s =
         slice::compute_geometry(std::as_const(bs), writer.geometry_sink(), t.progress(), t.threads);
     writer.finish();

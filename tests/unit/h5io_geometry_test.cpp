@@ -253,6 +253,16 @@ TEST_CASE("/geometry streamed run by run while it is computed gives write_blocks
     w.finish();
     CHECK(test::read_bytes(dir / "late.h5") == test::read_bytes(dir / "held.h5"));
   }
+  SECTION("blocks read back (checked by the reader, not again by the writer): the same bytes") {
+    const auto back_blocks = slice::read_blocks(dir / "held.h5");
+    auto read = back_blocks;
+    read.geometry.reset();
+    slice::BlocksFileWriter w(dir / "read.h5", read, {}, {compress},
+                              slice::BlocksFileWriter::Blocks::read);
+    slice::compute_geometry(read, w.geometry_sink(), {}, 2);
+    w.finish();
+    CHECK(test::read_bytes(dir / "read.h5") == test::read_bytes(dir / "held.h5"));
+  }
   SECTION("a run that does not match its blocks: an error naming the file's row, nothing written") {
     const std::string msg = error_of([&] {
       slice::BlocksFileWriter w(dir / "bad.h5", grid, {}, {compress});

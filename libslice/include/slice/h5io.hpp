@@ -84,8 +84,11 @@ BlockSystem read_blocks(const std::filesystem::path& in);
 /// unfinished, it waits for the thread and removes the .partial.
 class BlocksFileWriter {
  public:
+  /// Where the blocks come from: `made` by the caller (checked here), or `read` by read_blocks,
+  /// which checked them, with nothing of them (joints, blocks) changed since: not checked again.
+  enum class Blocks { made, read };
   BlocksFileWriter(const std::filesystem::path& out, const BlockSystem& bs, const Provenance& prov,
-                   const WriteOptions& opt = {});
+                   const WriteOptions& opt = {}, Blocks blocks = Blocks::made);
   ~BlocksFileWriter();
   BlocksFileWriter(const BlocksFileWriter&) = delete;
   BlocksFileWriter& operator=(const BlocksFileWriter&) = delete;

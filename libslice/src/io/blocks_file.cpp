@@ -426,14 +426,15 @@ struct BlocksFileWriter::Impl {
 };
 
 BlocksFileWriter::BlocksFileWriter(const fs::path& out, const BlockSystem& bs,
-                                   const Provenance& prov, const WriteOptions& opt)
+                                   const Provenance& prov, const WriteOptions& opt, Blocks blocks)
     : impl_(std::make_unique<Impl>(bs, out.string())) {
   // A bad output path fails here, before any work; the large /blocks group is written meanwhile,
   // and checked on the caller's threads (finish() waits for the check before the file is
   // renamed onto `out`).
   impl_->file.emplace(out, FileKind::blocks, prov, bs.joints, opt);
   impl_->writing = std::async(std::launch::async, [&m = *impl_] { m.write(); });
-  impl_->checking.run([&m = *impl_] { check_blocks(Checker(m.name, kNotWritten), m.bs, false); });
+  if (blocks == Blocks::made)
+    impl_->checking.run([&m = *impl_] { check_blocks(Checker(m.name, kNotWritten), m.bs, false); });
 }
 
 BlocksFileWriter::~BlocksFileWriter() {
