@@ -6,10 +6,6 @@
 # the cut's own stage times (slice-cut --stats); the 1-minute load average before each run.
 # Appends one row per run to results/pipeline-nonpersistent.csv and plots the file:
 #   bash pipelines/bench/pipeline-nonpersistent.sh [runs=3] [threads=0 (all cores)] [density=3e-2]
-#     [mode=stages]
-# mode "stages": slice-cut --prune, then slice-vertices (two processes, blocks.h5 between them);
-# mode "one": slice-cut --vertices (one process, no blocks.h5; its time is in the cut_prune
-# columns, the vertices columns are 0).
 # Wall times move with the neighbours on a shared machine: quote them with the load column,
 # and the CPU seconds and peak RSS, which move much less.
 set -euo pipefail
@@ -18,8 +14,6 @@ tools=${SLICE_BUILD_DIR:-$root/build}/tools
 runs=${1:-3}
 threads=${2:-0}
 density=${3:-3e-2}
-mode=${4:-stages}
-case $mode in stages | one) ;; *) echo "mode is stages or one" >&2; exit 2 ;; esac
 results=$root/pipelines/bench/results
 csv=$results/pipeline-nonpersistent.csv
 work=$(mktemp -d)
@@ -32,9 +26,7 @@ stages="joints cut_prune vertices export_vtu"
 if [ ! -f "$csv" ]; then
   header="run,density,threads,load,blocks,seconds_cut,seconds_finish,seconds_prune"
   for s in $stages; do header="$header,${s}_wall_s,${s}_cpu_s,${s}_rss_mb"; done
-  echo "$header,total_wall_s,total_cpu_s,peak_rss_mb,mode" >"$csv"
-elif ! head -1 "$csv" | grep -q ',mode$'; then  # rows from before the mode column: stages
-  sed -i '1s/$/,mode/; 2,$s/$/,stages/' "$csv"
+  echo "$header,total_wall_s,total_cpu_s,peak_rss_mb" >"$csv"
 fi
 # stage NAME command...: runs it under /usr/bin/time, appends "wall,cpu,rss" to $row
 stage() {
@@ -48,21 +40,15 @@ for run in $(seq 1 "$runs"); do
   load=$(cut -d' ' -f1 /proc/loadavg)
   row=""
   stage joints "$tools/slice-joints" -q "$work/scene.toml" -o joints.h5
-  if [ "$mode" = one ]; then
-    stage cut_prune "$tools/slice-cut" -q joints.h5 --vertices -o geom.h5 --stats stats.json \
-      "${thread_args[@]}"
-    row="$row,0.00,0.00,0"
-  else
-    stage cut_prune "$tools/slice-cut" -q joints.h5 --prune -o blocks.h5 --stats stats.json \
-      "${thread_args[@]}"
-    stage vertices "$tools/slice-vertices" -q blocks.h5 -o geom.h5 "${thread_args[@]}"
-  fi
+  stage cut_prune "$tools/slice-cut" -q joints.h5 --prune -o blocks.h5 --stats stats.json \
+    "${thread_args[@]}"
+  stage vertices "$tools/slice-vertices" -q blocks.h5 -o geom.h5 "${thread_args[@]}"
   stage export_vtu "$tools/slice-export" -q geom.h5 --format vtu -o blocks.vtu "${thread_args[@]}"
   cut=$(/usr/bin/python3 -c 'import json, sys; s = json.load(open(sys.argv[1]))
 print("%d,%.2f,%.2f,%.2f" % (s["blocks"], s["seconds_cut"], s["seconds_finish"], s["seconds_prune"]))' stats.json)
   total=$(/usr/bin/python3 -c 'import sys; v = [float(x) for x in sys.argv[1].split(",")[1:]]
 print("%.2f,%.2f,%.0f" % (sum(v[0::3]), sum(v[1::3]), max(v[2::3])))' "$row")
-  echo "$run,$density,${threads/#0/all},$load,$cut$row,$total,$mode" | tee -a "$csv"
+  echo "$run,$density,${threads/#0/all},$load,$cut$row,$total" | tee -a "$csv"
 done
 /usr/bin/python3 "$root/pipelines/bench/plot_pipeline_nonpersistent.py" "$csv" \
   "$results/pipeline-nonpersistent.png"

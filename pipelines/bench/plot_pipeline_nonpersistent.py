@@ -1,8 +1,7 @@
 #!/usr/bin/python3
 """Plots results/pipeline-nonpersistent.csv (pipelines/bench/pipeline-nonpersistent.sh): wall and
 CPU seconds of each stage per run, with the run's peak RSS and load average.
-  plot_pipeline_nonpersistent.py pipeline-nonpersistent.csv pipeline-nonpersistent.png
-Rows with mode "one" ran slice-cut --vertices: its time is in the cut + prune bar."""
+  plot_pipeline_nonpersistent.py pipeline-nonpersistent.csv pipeline-nonpersistent.png"""
 import csv
 import sys
 
@@ -12,8 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 rows = list(csv.DictReader(open(sys.argv[1])))
-stages = [("joints", "joints"), ("cut_prune", "cut + prune (one process: + vertices)"),
-          ("vertices", "vertices"),
+stages = [("joints", "joints"), ("cut_prune", "cut + prune"), ("vertices", "vertices"),
           ("export_vtu", "VTU")]
 colours = ["#7f7f7f", "#1f77b4", "#ff7f0e", "#2ca02c"]
 fig, ax = plt.subplots(figsize=(max(6, 1.1 * len(rows) + 2), 4.4))
@@ -30,13 +28,8 @@ for i, r in enumerate(rows):
 ax.axhline(10, color="#d62728", linestyle="--", linewidth=1)
 ax.text(len(rows) - 0.5, 10, "goal: 10 s wall", color="#d62728", ha="right", va="bottom", fontsize=8)
 ax.set_xticks(range(len(rows)))
-def mode(r):
-    """The pipeline's shape: 'one' is slice-cut --vertices (cut_prune holds the vertices too)."""
-    return "one process" if r.get("mode") == "one" else "stages"
-
-
-ax.set_xticklabels(["run %s, %s thr., %s\nload %s, %s MB" % (
-    r["run"], r["threads"], mode(r), r["load"], format(int(float(r["peak_rss_mb"])), ","))
+ax.set_xticklabels(["run %s, %s thr.\nload %s, %s MB" % (r["run"], r["threads"], r["load"],
+                                                        format(int(float(r["peak_rss_mb"])), ","))
                     for r in rows], fontsize=7)
 ax.set_ylabel("seconds (wall: solid; CPU, user + sys: light)")
 blocks = format(int(rows[-1]["blocks"]), ",") if rows else "?"
