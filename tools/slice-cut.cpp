@@ -1,30 +1,25 @@
 // slice-cut: joints.h5 -> blocks.h5 by sequential subdivision (docs/design.md, "The linear
-// programs"); with --vertices, straight to geom.h5 (as slice-prune and slice-vertices would).
+// programs").
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <utility>
 
 #include "common/tool.hpp"
 #include "slice/cut.hpp"
 #include "slice/error.hpp"
 #include "slice/h5io.hpp"
 #include "slice/output.hpp"
-#include "slice/vertices.hpp"
 
 int main(int argc, char** argv) {
   tool::Tool t{"slice-cut",
                "Cut the domain of a joints.h5 file into convex blocks, one LP per decision."};
   std::string in, out = "blocks.h5", backend = "native";
   std::string stats_file;
-  bool prune = false, vertices = false, no_index = false, no_shortcuts = false, certify = false;
+  bool prune = false, no_index = false, no_shortcuts = false, certify = false;
   t.cli.add_option("joints", in, "joints.h5 from slice-joints")->required();
   t.cli.add_option("-o,--output", out, "output file")->capture_default_str();
   t.cli.add_option("--lp", backend, "LP backend: native | ipopt | exact")->capture_default_str();
   t.cli.add_flag("--prune", prune, "also drop redundant faces (as slice-prune does)");
-  t.cli.add_flag("--vertices", vertices,
-                 "also prune and compute the vertices, loops and mass properties (as slice-prune "
-                 "and slice-vertices do): the output is a geom.h5 (default name geom.h5)");
   t.cli.add_flag("--no-index", no_index,
                  "test every block against every joint (no bounding spheres or grid)");
   t.cli.add_flag("--no-shortcuts", no_shortcuts,
@@ -43,10 +38,6 @@ int main(int argc, char** argv) {
   t.add_threads_option();
   t.add_compress_option();
   return t.run(argc, argv, [&] {
-    if (vertices) {
-      prune = true;
-      if (t.cli.count("--output") == 0) out = "geom.h5";
-    }
     tool::check_distinct_paths({{"joints", in, false}, {"-o", out}, {"--stats", stats_file}});
     slice::CutOptions opt;
     opt.backend = slice::parse_lp_backend(backend);
@@ -64,50 +55,38 @@ int main(int argc, char** argv) {
       ps = slice::prune_blocks(r.blocks, opt.backend, t.progress(), certify, t.threads, false);
     slice::DecisionCounts d = s.decisions;
     d += ps.decisions;
-    slice::GeometryStats gs;
-    if (vertices) {  // /blocks is written while /geometry is computed, run by run
-      slice::BlocksFileWriter writer(out, r.blocks, t.provenance(in), t.write_options());
-      gs = slice::compute_geometry(std::as_const(r.blocks), writer.geometry_sink(), t.progress(),
-                                   t.threads);
-      writer.finish();
-    } else {
-      slice::write_blocks(out, r.blocks, t.provenance(in), t.write_options());
-    }
+    slice::write_blocks(out, r.blocks, t.provenance(in), t.write_options());
     if (!stats_file.empty()) {
       std::size_t faces = 0;
       for (const auto& b : r.blocks.blocks) faces += b.faces.size();
-      nlohmann::ordered_json j = {{"joints", s.joints},
-                                  {"blocks", s.blocks},
-                                  {"splits", s.splits},
-                                  {"splits_undone", s.splits_undone},
-                                  {"pairs_skipped", s.pairs_skipped},
-                                  {"pairs_rejected_plane", s.rejected_plane},
-                                  {"pairs_rejected_box", s.rejected_box},
-                                  {"pairs_rejected_faces", s.rejected_faces},
-                                  {"pairs_settled_by_limit", s.settled_by_limit},
-                                  {"slivers_removed", s.slivers_removed},
-                                  {"slivers_joined", s.slivers_joined},
-                                  {"slivers_left", s.slivers_left},
-                                  {"lps_cut_test", s.lps.cut_test},
-                                  {"lps_extents", s.lps.extents},
-                                  {"lps_chebyshev", s.lps.chebyshev},
-                                  {"extremes_at_vertices", s.lps.vertex_extremes},
-                                  {"lps_contact", s.lps.contact},
-                                  {"lps_redundancy", ps.lps},
-                                  {"faces_kept_without_lp", ps.certified},
-                                  {"lps_failed", s.lps.failed + ps.failed},
-                                  {"lps_solved", s.lps.total() + ps.lps},
-                                  {"lps_resolved_exactly", d.resolved},
-                                  {"decisions_checked", d.checked},
-                                  {"decisions_changed", d.changed},
-                                  {"seconds_cut", s.seconds_cut},
-                                  {"seconds_finish", s.seconds_finish},
-                                  {"seconds_prune", ps.seconds},
-                                  {"faces", faces}};
-      if (vertices) {
-        j["vertices"] = gs.vertices;
-        j["seconds_vertices"] = gs.seconds;
-      }
+      const nlohmann::ordered_json j = {{"joints", s.joints},
+                                        {"blocks", s.blocks},
+                                        {"splits", s.splits},
+                                        {"splits_undone", s.splits_undone},
+                                        {"pairs_skipped", s.pairs_skipped},
+                                        {"pairs_rejected_plane", s.rejected_plane},
+                                        {"pairs_rejected_box", s.rejected_box},
+                                        {"pairs_rejected_faces", s.rejected_faces},
+                                        {"pairs_settled_by_limit", s.settled_by_limit},
+                                        {"slivers_removed", s.slivers_removed},
+                                        {"slivers_joined", s.slivers_joined},
+                                        {"slivers_left", s.slivers_left},
+                                        {"lps_cut_test", s.lps.cut_test},
+                                        {"lps_extents", s.lps.extents},
+                                        {"lps_chebyshev", s.lps.chebyshev},
+                                        {"extremes_at_vertices", s.lps.vertex_extremes},
+                                        {"lps_contact", s.lps.contact},
+                                        {"lps_redundancy", ps.lps},
+                                        {"faces_kept_without_lp", ps.certified},
+                                        {"lps_failed", s.lps.failed + ps.failed},
+                                        {"lps_solved", s.lps.total() + ps.lps},
+                                        {"lps_resolved_exactly", d.resolved},
+                                        {"decisions_checked", d.checked},
+                                        {"decisions_changed", d.changed},
+                                        {"seconds_cut", s.seconds_cut},
+                                        {"seconds_finish", s.seconds_finish},
+                                        {"seconds_prune", ps.seconds},
+                                        {"faces", faces}};
       slice::write_text_file(stats_file, j.dump(2) + "\n");
     }
     t.say(std::to_string(s.joints) + " joints (" + std::to_string(s.joints_missing) +
@@ -146,11 +125,9 @@ int main(int argc, char** argv) {
     t.say("time: cut " + tool::fixed(s.seconds_cut, 3) + " s, finish " +
           tool::fixed(s.seconds_finish, 3) + " s" +
           (prune ? ", prune " + tool::fixed(ps.seconds, 3) + " s" : "") +
-          (vertices ? ", vertices " + tool::fixed(gs.seconds, 3) + " s" : "") +
           (prune ? "; faces " + std::to_string(ps.faces_before) + " -> " +
                        std::to_string(ps.faces_after)
-                 : "") +
-          (vertices ? "; vertices " + std::to_string(gs.vertices) : ""));
+                 : ""));
     t.exit_now();
   });
 }
