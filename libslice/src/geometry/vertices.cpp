@@ -571,9 +571,12 @@ MassProperties mass_properties(const std::vector<Vec3>& vertices,
   // Tetrahedra (about, a, b, c) over a fan of each face, D = a . (b x c) (six times the signed
   // volume, relative to `about`): integral of x = D/24 (a + b + c) and integral of x x^T =
   // D/120 (a a^T + b b^T + c c^T + s s^T), s = a + b + c.
+  // x x^T is symmetric (a_i a_j = a_j a_i exactly): its six entries xx, yy, zz, xy, yz, zx are
+  // summed, each as the whole matrix would be.
+  constexpr int kRow[6] = {0, 1, 2, 0, 1, 2}, kCol[6] = {0, 1, 2, 1, 2, 0};
   double six_v = 0;
   Vec3 m1 = Vec3::Zero();
-  Eigen::Matrix3d m2 = Eigen::Matrix3d::Zero();
+  double x2[6] = {0, 0, 0, 0, 0, 0};
   for (const auto& loop : loops) {
     if (loop.size() < 3) continue;
     const Vec3 a = vertices[std::size_t(loop[0])] - about;
@@ -584,10 +587,15 @@ MassProperties mass_properties(const std::vector<Vec3>& vertices,
       const Vec3 s = a + b + c;
       six_v += d;
       m1 += d / 24 * s;
-      m2 +=
-          d / 120 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+      const double w = d / 120;
+      for (int e = 0; e < 6; ++e) {
+        const int i = kRow[e], j = kCol[e];
+        x2[e] += w * (a[i] * a[j] + b[i] * b[j] + c[i] * c[j] + s[i] * s[j]);
+      }
     }
   }
+  Eigen::Matrix3d m2;
+  for (int e = 0; e < 6; ++e) m2(kRow[e], kCol[e]) = m2(kCol[e], kRow[e]) = x2[e];
   MassProperties mp;
   mp.volume = six_v / 6;
   if (!(mp.volume > 0)) return mp;
@@ -859,6 +867,24 @@ void append(Geometry& geo, const BlockGeometry& g, GeometryStats& st) {
   st.faces += g.loops.size();
 }
 
+/// Makes room in geo for appending all of `parts` (no regrowing copies of a run's arrays).
+void reserve(Geometry& geo, const std::vector<Geometry>& parts) {
+  const auto room = [&](auto member) {
+    std::size_t n = (geo.*member).size();
+    for (const Geometry& p : parts) n += (p.*member).size();
+    (geo.*member).reserve(n);
+  };
+  room(&Geometry::vertex_offset);
+  room(&Geometry::vertices);
+  room(&Geometry::face_vertex_offset);
+  room(&Geometry::face_vertices);
+  room(&Geometry::volume);
+  room(&Geometry::centroid);
+  room(&Geometry::inertia);
+  room(&Geometry::face_area);
+  room(&Geometry::face_joint_fraction);
+}
+
 /// Appends `part` (blocks made by append into an empty Geometry) to geo.
 void append(Geometry& geo, const Geometry& part) {
   const std::int64_t v0 = std::int64_t(geo.vertices.size());
@@ -950,6 +976,7 @@ GeometryStats compute_geometry(const BlockSystem& bs, const GeometrySink& sink,
   const auto gather = [&](Wave& wave) {
     if (wave.parts.empty()) return true;
     Geometry run;
+    reserve(run, wave.parts);
     for (std::size_t c = 0; c < wave.parts.size(); ++c) {
       if (wave.failure[c]) {
         failure = wave.failure[c];
