@@ -691,6 +691,31 @@ BlockGeometry block_geometry(const Block& b, const JointSystem& js, const Tolera
 
 namespace {
 
+/// The part of a face inside its joint's polygon, in the face's plane: its loop (`local`, block
+/// frame about the hull centre o) clipped by the polygon's `edges` (global frame), as a fraction
+/// of the face's `area`.
+double joint_fraction(const std::vector<Vec3>& local, const std::vector<std::int64_t>& loop,
+                      const Vec3& normal, double area, std::span<const Plane> edges, const Vec3& o,
+                      Scratch3d& s) {
+  auto& part = s.part;
+  part.clear();
+  for (const std::int64_t v : loop) part.push_back(local[std::size_t(v)]);
+  bool cut = false;
+  for (std::size_t k = 0; k < edges.size() && !part.empty(); ++k) {
+    const Plane edge = to_local(edges[k], o);
+    // clip_polygon gives a polygon inside the half-plane back as it is: no need to call it.
+    if (std::all_of(part.begin(), part.end(), [&](const Vec3& x) { return edge.distance(x) <= 0; }))
+      continue;
+    clip_polygon(part, edge, s.clipped);
+    part.swap(s.clipped);
+    cut = true;
+  }
+  // Uncut, the part's Newell area is the face's area (loop_area's sum): the fraction is 1.
+  if (!cut) return 1;
+  const double inside = part.size() < 3 ? 0 : normal.dot(newell_normal(part)) / 2;
+  return std::clamp(inside / area, 0.0, 1.0);
+}
+
 /// block_geometry of a 3-D block into `g` (its arrays reused), with the polygon joints' edges
 /// made once for all blocks (`joint_edges`) or, without them, for each face that needs them.
 void block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& tol, std::size_t id,
@@ -817,28 +842,9 @@ void block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& 
       edges = joint_edges->of(std::size_t(j));
     else if (!js.joints[std::size_t(j)].persistent())
       edges = s.own = polygon_edges(js.joints[std::size_t(j)]);
-    if (!edges.empty()) {
-      const Vec3 o = b.origin + centre;
-      auto& part = s.part;
-      part.clear();
-      for (const std::int64_t v : loop) part.push_back(local[std::size_t(v)]);
-      bool cut = false;
-      for (std::size_t k = 0; k < edges.size() && !part.empty(); ++k) {
-        const Plane edge = to_local(edges[k], o);
-        // clip_polygon gives a polygon inside the half-plane back as it is: no need to call it.
-        if (std::all_of(part.begin(), part.end(),
-                        [&](const Vec3& x) { return edge.distance(x) <= 0; }))
-          continue;
-        clip_polygon(part, edge, s.clipped);
-        part.swap(s.clipped);
-        cut = true;
-      }
-      // Uncut, the part's Newell area is the face's area (loop_area's sum): the fraction is 1.
-      if (cut) {
-        const double inside = part.size() < 3 ? 0 : b.faces[f].normal.dot(newell_normal(part)) / 2;
-        g.face_joint_fraction[f] = std::clamp(inside / area, 0.0, 1.0);
-      }
-    }
+    if (!edges.empty())
+      g.face_joint_fraction[f] =
+          joint_fraction(local, loop, b.faces[f].normal, area, edges, b.origin + centre, s);
   }
 
   const MassProperties mp = mass_properties(local, g.loops, Vec3::Zero());
