@@ -61,6 +61,12 @@ MassProperties mass_properties(const std::vector<Vec3>& vertices,
                                const std::vector<std::vector<std::int64_t>>& loops,
                                const Vec3& about);
 
+/// The sign (+1, 0 or -1) of det [q - p; r - p; s - p]: +1 if s lies on the side of the plane
+/// p q r that its normal (q - p) x (r - p) points to. Exact for any finite coordinates, as
+/// CGAL::orientation (floating-point expansions; CGAL's multiprecision fallback where products
+/// could underflow or overflow). The predicate of the dual hull; public for its property test.
+int orientation_sign(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s);
+
 struct GeometryStats {
   std::size_t blocks = 0, vertices = 0, faces = 0;
   double seconds = 0;  // compute_geometry's own time (no file I/O)

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cfenv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -46,6 +47,14 @@ std::string face_name(const Block& b, std::size_t f) {
 /// the block to within the geometry tolerance.
 void check_inside(const Block& b, const std::vector<Vec3>& local, const Vec3& centre,
                   const Tolerances& tol, std::size_t id) {
+  // A pass with each face's offset from the centre worked out once; the one that names the
+  // first vertex outside (the same values) only where there is one.
+  bool outside = false;
+  for (const Face& fc : b.faces) {
+    const double d = fc.d - fc.normal.dot(centre);
+    for (const Vec3& x : local) outside |= fc.normal.dot(x) - d > tol.geometry;
+  }
+  if (!outside) return;
   for (std::size_t v = 0; v < local.size(); ++v)
     for (std::size_t f = 0; f < b.faces.size(); ++f) {
       const Face& fc = b.faces[f];
@@ -73,23 +82,219 @@ Vec3 meet(const Face& a, const Face& b, const Face& c, const Vec3& centre) {
   return (da * bc + db * c.normal.cross(a.normal) + dc * a.normal.cross(b.normal)) / det;
 }
 
+/// The area of a face's loop about its normal, and in `bound` a bound on its perimeter without
+/// square roots: the sum of its edges' L1 lengths (with rounding, loop_perimeter stays below
+/// bound * (1 + 1e-9) for any loop of fewer than a million vertices).
 double loop_area(const std::vector<Vec3>& v, const std::vector<std::int64_t>& loop,
-                 const Vec3& normal, double* perimeter) {
+                 const Vec3& normal, double* bound) {
   Vec3 s = Vec3::Zero();
   double p = 0;
   for (std::size_t k = 0; k < loop.size(); ++k) {
     const Vec3& a = v[std::size_t(loop[k])];
     const Vec3& b = v[std::size_t(loop[(k + 1) % loop.size()])];
     s += a.cross(b);
-    p += (b - a).norm();
+    p += (b - a).cwiseAbs().sum();
   }
-  if (perimeter) *perimeter = p;
+  *bound = p;
   return normal.dot(s) / 2;
 }
 
+double loop_perimeter(const std::vector<Vec3>& v, const std::vector<std::int64_t>& loop) {
+  double p = 0;
+  for (std::size_t k = 0; k < loop.size(); ++k)
+    p += (v[std::size_t(loop[(k + 1) % loop.size()])] - v[std::size_t(loop[k])]).norm();
+  return p;
+}
+
+// ---- The dual hull's orientation predicate, exact on floating-point expansions (J. R. Shewchuk,
+// "Adaptive precision floating-point arithmetic and fast robust geometric predicates", Discrete
+// Comput. Geom. 18 (1997) 305-363): a number held exactly as a sum of doubles, nonoverlapping,
+// in increasing magnitude, without zeros; its sign is that of its last (largest) component.
+
+/// x + y = a + b exactly, x = fl(a + b) (Knuth's two-sum).
+inline void two_sum(double a, double b, double& x, double& y) {
+  x = a + b;
+  const double bv = x - a, av = x - bv;
+  y = (a - av) + (b - bv);
+}
+
+/// x + y = a * b exactly, x = fl(a * b), for a, b in exact_range: by a fused multiply-add where
+/// the compiler has one, else by Dekker's split (halves of 26 bits, whose products are exact).
+inline void two_product(double a, double b, double& x, double& y) {
+  x = a * b;
+#ifdef __FMA__
+  y = std::fma(a, b, -x);
+#else
+  const auto split = [](double v, double& hi, double& lo) {
+    const double c = 134217729.0 * v;  // 2^27 + 1
+    hi = c - (c - v);
+    lo = v - hi;
+  };
+  double ah, al, bh, bl;
+  split(a, ah, al);
+  split(b, bh, bl);
+  y = al * bl - (((x - ah * bh) - al * bh) - ah * bl);
+#endif
+}
+
+/// Adds b to the expansion e[0, n) in place (Shewchuk's Grow-Expansion, zeros dropped); e has
+/// room for n + 1. Returns the new length.
+inline int grow(double* e, int n, double b) {
+  double q = b;
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    double s, t;
+    two_sum(q, e[i], s, t);
+    if (t != 0) e[m++] = t;
+    q = s;
+  }
+  if (q != 0) e[m++] = q;
+  return m;
+}
+
+/// Adds sign times the expansion f[0, nf) to e[0, n) in place (sign +-1; e has room for n + nf).
+/// Returns the new length.
+inline int add(double* e, int n, const double* f, int nf, double sign) {
+  for (int i = 0; i < nf; ++i) n = grow(e, n, sign * f[i]);
+  return n;
+}
+
+/// Adds b times the expansion f[0, nf) to e[0, n) in place, exactly (e has room for n + 2 nf; the
+/// products' rounding errors are normal doubles: exact_range). Returns the new length.
+inline int add_scaled(double* e, int n, const double* f, int nf, double b) {
+  for (int i = 0; i < nf; ++i) {
+    double x, y;
+    two_product(f[i], b, x, y);
+    n = grow(e, n, y);
+    n = grow(e, n, x);
+  }
+  return n;
+}
+
+/// A 2x2 minor u_i v_j - v_i u_j of two points, exactly (at most 4 components).
+struct Minor {
+  double e[4];
+  int n = 0;
+  Minor(const Point& u, const Point& v, int i, int j) {
+    double p, pe, q, qe;
+    two_product(u[i], v[j], p, pe);
+    two_product(v[i], u[j], q, qe);
+    n = grow(e, grow(e, grow(e, grow(e, 0, pe), p), -qe), -q);
+  }
+};
+
+/// Nonzero coordinates in this range keep every product of three of them, and the rounding
+/// errors of such products, normal doubles: the expansions are exact and the filter's bound holds.
+constexpr double kExactMin = 0x1p-250, kExactMax = 0x1p+250;
+
+bool exact_range(const Point& p) {
+  for (int k = 0; k < 3; ++k) {
+    const double a = std::abs(p[k]);
+    if (a != 0 && !(a >= kExactMin && a <= kExactMax)) return false;
+  }
+  return true;
+}
+
+/// The sign of the 4x4 determinant D of the rows (x, y, z, 1) of a, b, c, d, exactly, by the 2x2
+/// minors of (x, y) (uv = u_x v_y - v_x u_y; Shewchuk's orient3dexact):
+/// D = z_a (bc + cd - bd) + z_b (ad - ac - cd) + z_c (ab + bd - ad) - z_d (ab + bc - ac).
+int determinant_sign(const Point& a, const Point& b, const Point& c, const Point& d) {
+  const Minor ab(a, b, 0, 1), ac(a, c, 0, 1), ad(a, d, 0, 1), bc(b, c, 0, 1), bd(b, d, 0, 1),
+      cd(c, d, 0, 1);
+  double sum[96];  // four terms of at most 2 x 12 components
+  int n = 0;
+  // Adds z (u + v - w) to the sum.
+  const auto term = [&](double z, const Minor& u, const Minor& v, const Minor& w) {
+    if (z == 0) return;
+    double t[12];
+    int m = add(t, 0, u.e, u.n, 1);
+    m = add(t, m, v.e, v.n, 1);
+    m = add(t, m, w.e, w.n, -1);
+    n = add_scaled(sum, n, t, m, z);
+  };
+  term(a.z(), bc, cd, bd);
+  term(-b.z(), ac, cd, ad);
+  term(c.z(), ab, bd, ad);
+  term(-d.z(), ab, bc, ac);
+  return n == 0 ? 0 : sum[n - 1] > 0 ? 1 : -1;
+}
+
+/// The sign of det [a; b; c] = a . (b x c), exactly (the 4x4 determinant of a, b, c and the
+/// origin, by the 2x2 minors of b and c).
+int determinant_sign_3(const Point& a, const Point& b, const Point& c) {
+  double sum[24];
+  int n = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Minor m(b, c, (k + 1) % 3, (k + 2) % 3);  // (b x c)_k
+    if (a[k] != 0) n = add_scaled(sum, n, m.e, m.n, a[k]);
+  }
+  return n == 0 ? 0 : sum[n - 1] > 0 ? 1 : -1;
+}
+
+bool antipodal(const Point& a, const Point& b) {
+  return a.x() == -b.x() && a.y() == -b.y() && a.z() == -b.z();
+}
+
+/// The sign of D (above) where two of the points are antipodal (each the other's negation: the
+/// dual points of parallel faces as far from the centre, which is where slice-cut puts a block's
+/// origin). Moved to a and b = -a (a sign per swap), D = 2 det [a; c; d]: 0 if c and d are
+/// antipodal too (four points in a plane through the origin). 2 (no sign) if no two are.
+int antipodal_sign(const Point& p, const Point& q, const Point& r, const Point& s) {
+  const Point* v[4] = {&p, &q, &r, &s};
+  for (int i = 0; i < 3; ++i)
+    for (int j = i + 1; j < 4; ++j) {
+      if (!antipodal(*v[i], *v[j])) continue;
+      int sign = 1;
+      if (i != 0) std::swap(v[0], v[i]), sign = -sign;
+      if (j != 1) std::swap(v[1], v[j]), sign = -sign;
+      if (antipodal(*v[2], *v[3])) return 0;
+      return sign * determinant_sign_3(*v[0], *v[2], *v[3]);
+    }
+  return 2;
+}
+
+/// CGAL::orientation(p, q, r, s) (the sign of det [q - p; r - p; s - p], which is -D above) for
+/// points in exact_range, exactly: Shewchuk's orient3d error bound first, the expansions only
+/// for (nearly) coplanar points.
+CGAL::Orientation orientation_3(const Point& p, const Point& q, const Point& r, const Point& s) {
+  const double adx = p.x() - s.x(), bdx = q.x() - s.x(), cdx = r.x() - s.x();
+  const double ady = p.y() - s.y(), bdy = q.y() - s.y(), cdy = r.y() - s.y();
+  const double adz = p.z() - s.z(), bdz = q.z() - s.z(), cdz = r.z() - s.z();
+  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+  const double cdxady = cdx * ady, adxcdy = adx * cdy;
+  const double adxbdy = adx * bdy, bdxady = bdx * ady;
+  const double det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+  const double permanent = (std::abs(bdxcdy) + std::abs(cdxbdy)) * std::abs(adz) +
+                           (std::abs(cdxady) + std::abs(adxcdy)) * std::abs(bdz) +
+                           (std::abs(adxbdy) + std::abs(bdxady)) * std::abs(cdz);
+  constexpr double kEps = 0x1p-53;
+  constexpr double kBound = (7 + 56 * kEps) * kEps;  // Shewchuk's o3derrboundA
+  const double bound = kBound * permanent;
+  if (det > bound) return CGAL::NEGATIVE;
+  if (-det > bound) return CGAL::POSITIVE;
+  int sign = antipodal_sign(p, q, r, s);
+  if (sign == 2) sign = determinant_sign(p, q, r, s);
+  return sign > 0 ? CGAL::NEGATIVE : sign < 0 ? CGAL::POSITIVE : CGAL::COPLANAR;
+}
+
+/// The orientation predicate of a point set: orientation_3 if every point is in exact_range
+/// (and rounding is to nearest, as the expansions need), else CGAL's (filtered, with a
+/// multiprecision fallback). Both are exact: the same signs.
+struct Orientation3 {
+  bool expansions = true;
+  explicit Orientation3(const std::vector<Point>& pts)
+      : expansions(std::fegetround() == FE_TONEAREST &&
+                   std::all_of(pts.begin(), pts.end(), exact_range)) {}
+  CGAL::Orientation operator()(const Point& p, const Point& q, const Point& r,
+                               const Point& s) const {
+    return expansions ? orientation_3(p, q, r, s) : CGAL::orientation(p, q, r, s);
+  }
+};
+
 /// The convex hull of `pts` as triangles (indices into pts), counter-clockwise seen from
-/// outside. Incremental, with CGAL's exact orientation predicate (filtered: exact arithmetic
-/// only for (nearly) coplanar points), so the result is a consistent closed surface whatever
+/// outside. Incremental, with an exact orientation predicate (Orientation3: exact arithmetic
+/// only for (nearly) coplanar points; most of those, two pairs of parallel faces, without any),
+/// so the result is a consistent closed surface whatever
 /// the rounding: coplanar points give a triangulated polygon, points inside or on the hull are
 /// left out. Empty if the points do not span a solid. Meant for the tens of points of a block:
 /// O(n^2). (CGAL::convex_hull_3 gives the same hull but spends 20-30 us per block in list
@@ -100,7 +305,8 @@ struct HullScratch {
   std::vector<std::array<std::size_t, 2>> horizon;
 };
 
-void convex_hull(const std::vector<Point>& pts, std::vector<Triangle>& hull, HullScratch& s) {
+void convex_hull(const std::vector<Point>& pts, const Orientation3& orientation,
+                 std::vector<Triangle>& hull, HullScratch& s) {
   hull.clear();
   const std::size_t n = pts.size();
   // A first tetrahedron: p0, p1 != p0, p2 off the line p0 p1, p3 off the plane p0 p1 p2.
@@ -110,7 +316,7 @@ void convex_hull(const std::vector<Point>& pts, std::vector<Triangle>& hull, Hul
   }
   CGAL::Orientation o = CGAL::COPLANAR;
   for (i3 = i2 + 1; i3 < n; ++i3)
-    if ((o = CGAL::orientation(pts[0], pts[i1], pts[i2], pts[i3])) != CGAL::COPLANAR) break;
+    if ((o = orientation(pts[0], pts[i1], pts[i2], pts[i3])) != CGAL::COPLANAR) break;
   if (i1 >= n || i2 >= n || i3 >= n) return;
   std::size_t a = 0, b = i1, c = i2;
   if (o == CGAL::POSITIVE) std::swap(b, c);  // now i3 is below the plane a b c
@@ -124,8 +330,7 @@ void convex_hull(const std::vector<Point>& pts, std::vector<Triangle>& hull, Hul
     visible.assign(hull.size(), 0);
     bool any = false;
     for (std::size_t t = 0; t < hull.size(); ++t)
-      if (CGAL::orientation(pts[hull[t][0]], pts[hull[t][1]], pts[hull[t][2]], pts[p]) ==
-          CGAL::POSITIVE)
+      if (orientation(pts[hull[t][0]], pts[hull[t][1]], pts[hull[t][2]], pts[p]) == CGAL::POSITIVE)
         visible[t] = any = true;
     if (!any) continue;  // inside or on the hull
     // Horizon: directed edges of visible triangles whose reverse is not in a visible one.
@@ -366,9 +571,12 @@ MassProperties mass_properties(const std::vector<Vec3>& vertices,
   // Tetrahedra (about, a, b, c) over a fan of each face, D = a . (b x c) (six times the signed
   // volume, relative to `about`): integral of x = D/24 (a + b + c) and integral of x x^T =
   // D/120 (a a^T + b b^T + c c^T + s s^T), s = a + b + c.
+  // x x^T is symmetric (a_i a_j = a_j a_i exactly): its six entries xx, yy, zz, xy, yz, zx are
+  // summed, each as the whole matrix would be.
+  constexpr int kRow[6] = {0, 1, 2, 0, 1, 2}, kCol[6] = {0, 1, 2, 1, 2, 0};
   double six_v = 0;
   Vec3 m1 = Vec3::Zero();
-  Eigen::Matrix3d m2 = Eigen::Matrix3d::Zero();
+  double x2[6] = {0, 0, 0, 0, 0, 0};
   for (const auto& loop : loops) {
     if (loop.size() < 3) continue;
     const Vec3 a = vertices[std::size_t(loop[0])] - about;
@@ -379,10 +587,15 @@ MassProperties mass_properties(const std::vector<Vec3>& vertices,
       const Vec3 s = a + b + c;
       six_v += d;
       m1 += d / 24 * s;
-      m2 +=
-          d / 120 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+      const double w = d / 120;
+      for (int e = 0; e < 6; ++e) {
+        const int i = kRow[e], j = kCol[e];
+        x2[e] += w * (a[i] * a[j] + b[i] * b[j] + c[i] * c[j] + s[i] * s[j]);
+      }
     }
   }
+  Eigen::Matrix3d m2;
+  for (int e = 0; e < 6; ++e) m2(kRow[e], kCol[e]) = m2(kCol[e], kRow[e]) = x2[e];
   MassProperties mp;
   mp.volume = six_v / 6;
   if (!(mp.volume > 0)) return mp;
@@ -419,6 +632,30 @@ struct JointEdges {
   std::span<const Plane> of(std::size_t j) const {
     return {planes.data() + offset[j], offset[j + 1] - offset[j]};
   }
+  // Blocks meet their joints in no order, so of(j) misses the cache: a caller going through the
+  // blocks starts loading the offsets two blocks ahead and their planes one block ahead.
+  bool has(std::int64_t j) const { return j >= 0 && std::size_t(j) + 1 < offset.size(); }
+  void prefetch_offsets(const Block& b) const {
+    for (const Face& f : b.faces)
+      if (has(f.joint)) prefetch(&offset[std::size_t(f.joint) + 1]);
+  }
+  void prefetch_planes(const Block& b) const {
+    for (const Face& f : b.faces) {
+      if (!has(f.joint)) continue;
+      const auto* p = reinterpret_cast<const char*>(planes.data() + offset[std::size_t(f.joint)]);
+      const auto* e =
+          reinterpret_cast<const char*>(planes.data() + offset[std::size_t(f.joint) + 1]);
+      if (p == e) continue;
+      prefetch(p);  // a square's four planes: 128 bytes, on two or three cache lines
+      if (e - p > 64) prefetch(p + 64);
+      prefetch(e - 1);
+    }
+  }
+  // __builtin_prefetch, kept: GCC 12 (-O2) deletes a loop whose only effects are prefetches.
+  static void prefetch(const void* p) {
+    __builtin_prefetch(p);
+    asm volatile("");
+  }
 };
 
 /// block_geometry_3d's working arrays, kept from block to block by a caller that computes many
@@ -454,6 +691,31 @@ BlockGeometry block_geometry(const Block& b, const JointSystem& js, const Tolera
 
 namespace {
 
+/// The part of a face inside its joint's polygon, in the face's plane: its loop (`local`, block
+/// frame about the hull centre o) clipped by the polygon's `edges` (global frame), as a fraction
+/// of the face's `area`.
+double joint_fraction(const std::vector<Vec3>& local, const std::vector<std::int64_t>& loop,
+                      const Vec3& normal, double area, std::span<const Plane> edges, const Vec3& o,
+                      Scratch3d& s) {
+  auto& part = s.part;
+  part.clear();
+  for (const std::int64_t v : loop) part.push_back(local[std::size_t(v)]);
+  bool cut = false;
+  for (std::size_t k = 0; k < edges.size() && !part.empty(); ++k) {
+    const Plane edge = to_local(edges[k], o);
+    // clip_polygon gives a polygon inside the half-plane back as it is: no need to call it.
+    if (std::all_of(part.begin(), part.end(), [&](const Vec3& x) { return edge.distance(x) <= 0; }))
+      continue;
+    clip_polygon(part, edge, s.clipped);
+    part.swap(s.clipped);
+    cut = true;
+  }
+  // Uncut, the part's Newell area is the face's area (loop_area's sum): the fraction is 1.
+  if (!cut) return 1;
+  const double inside = part.size() < 3 ? 0 : normal.dot(newell_normal(part)) / 2;
+  return std::clamp(inside / area, 0.0, 1.0);
+}
+
 /// block_geometry of a 3-D block into `g` (its arrays reused), with the polygon joints' edges
 /// made once for all blocks (`joint_edges`) or, without them, for each face that needs them.
 void block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& tol, std::size_t id,
@@ -473,7 +735,8 @@ void block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& 
     dual.emplace_back(p.x(), p.y(), p.z());
   }
   auto& triangles = s.triangles;
-  convex_hull(dual, triangles, s.hull);
+  const Orientation3 orientation(dual);
+  convex_hull(dual, orientation, triangles, s.hull);
   if (triangles.empty())
     throw Error(block_name(id), "its faces do not bound a solid (the dual hull is flat)",
                 "regenerate the blocks with slice-cut");
@@ -481,12 +744,19 @@ void block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& 
   // every (outward) facet, by the exact predicate.
   const Point origin(CGAL::ORIGIN);
   for (const Triangle& tr : triangles)
-    if (CGAL::orientation(dual[tr[0]], dual[tr[1]], dual[tr[2]], origin) != CGAL::NEGATIVE)
+    if (orientation(dual[tr[0]], dual[tr[1]], dual[tr[2]], origin) != CGAL::NEGATIVE)
       throw Error(block_name(id), "its faces do not bound it (the block is unbounded)",
                   "regenerate the blocks with slice-cut");
 
   // One vertex per hull facet; facets whose vertices are closer than the geometry tolerance
   // are one vertex (four or more planes meeting).
+  // norm() > tol.geometry, without the square root where the squared norm settles it (norm()
+  // is the rounded root of the same squared norm, so the answer is the same).
+  const double far = tol.geometry * tol.geometry * (1 + 1e-9);
+  const auto apart = [&](const Vec3& u, const Vec3& v) {
+    const Vec3 w = u - v;
+    return w.squaredNorm() > far || w.norm() > tol.geometry;
+  };
   auto& local = s.local;
   auto& vertex_of = s.vertex_of;
   local.clear();
@@ -498,7 +768,7 @@ void block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& 
       throw Error(block_name(id), "its faces do not bound it (a vertex at infinity)",
                   "regenerate the blocks with slice-cut");
     std::size_t m = 0;
-    while (m < local.size() && (local[m] - x).norm() > tol.geometry) ++m;
+    while (m < local.size() && apart(local[m], x)) ++m;
     if (m == local.size()) local.push_back(x);
     vertex_of[t] = std::int64_t(m);
   }
@@ -549,14 +819,19 @@ void block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& 
     sorted.assign(loop.begin(), loop.end());
     std::sort(sorted.begin(), sorted.end());
     const bool repeats = std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
-    double perimeter = 0;
-    const double area = loop.size() < 3 ? 0 : loop_area(local, loop, b.faces[f].normal, &perimeter);
-    if (loop.size() < 3 || repeats || area <= tol.geometry * perimeter / 2)
-      throw Error(block_name(id),
-                  face_name(b, f) + " has no area: " + std::to_string(loop.size()) +
-                      " distinct vertices, area " + num(area) + " (below tolerance " +
-                      num(tol.geometry * perimeter / 2) + " = tolerance x half perimeter)",
-                  kSlicerFix);
+    double bound = 0;
+    const double area = loop.size() < 3 ? 0 : loop_area(local, loop, b.faces[f].normal, &bound);
+    // area <= tol.geometry * perimeter / 2, with the perimeter (square roots) worked out only
+    // where its bound does not settle it.
+    if (loop.size() < 3 || repeats || area <= tol.geometry * (bound * (1 + 1e-9)) / 2) {
+      const double perimeter = loop.size() < 3 ? 0 : loop_perimeter(local, loop);
+      if (loop.size() < 3 || repeats || area <= tol.geometry * perimeter / 2)
+        throw Error(block_name(id),
+                    face_name(b, f) + " has no area: " + std::to_string(loop.size()) +
+                        " distinct vertices, area " + num(area) + " (below tolerance " +
+                        num(tol.geometry * perimeter / 2) + " = tolerance x half perimeter)",
+                    kSlicerFix);
+    }
     g.face_area[f] = area;
 
     // Part of the face inside its joint's polygon, in the face's plane (block frame).
@@ -567,18 +842,9 @@ void block_geometry_3d(const Block& b, const JointSystem& js, const Tolerances& 
       edges = joint_edges->of(std::size_t(j));
     else if (!js.joints[std::size_t(j)].persistent())
       edges = s.own = polygon_edges(js.joints[std::size_t(j)]);
-    if (!edges.empty()) {
-      const Vec3 o = b.origin + centre;
-      auto& part = s.part;
-      part.clear();
-      for (const std::int64_t v : loop) part.push_back(local[std::size_t(v)]);
-      for (std::size_t k = 0; k < edges.size() && !part.empty(); ++k) {
-        clip_polygon(part, to_local(edges[k], o), s.clipped);
-        part.swap(s.clipped);
-      }
-      const double inside = part.size() < 3 ? 0 : b.faces[f].normal.dot(newell_normal(part)) / 2;
-      g.face_joint_fraction[f] = std::clamp(inside / area, 0.0, 1.0);
-    }
+    if (!edges.empty())
+      g.face_joint_fraction[f] =
+          joint_fraction(local, loop, b.faces[f].normal, area, edges, b.origin + centre, s);
   }
 
   const MassProperties mp = mass_properties(local, g.loops, Vec3::Zero());
@@ -607,6 +873,24 @@ void append(Geometry& geo, const BlockGeometry& g, GeometryStats& st) {
   st.faces += g.loops.size();
 }
 
+/// Makes room in geo for appending all of `parts` (no regrowing copies of a run's arrays).
+void reserve(Geometry& geo, const std::vector<Geometry>& parts) {
+  const auto room = [&](auto member) {
+    std::size_t n = (geo.*member).size();
+    for (const Geometry& p : parts) n += (p.*member).size();
+    (geo.*member).reserve(n);
+  };
+  room(&Geometry::vertex_offset);
+  room(&Geometry::vertices);
+  room(&Geometry::face_vertex_offset);
+  room(&Geometry::face_vertices);
+  room(&Geometry::volume);
+  room(&Geometry::centroid);
+  room(&Geometry::inertia);
+  room(&Geometry::face_area);
+  room(&Geometry::face_joint_fraction);
+}
+
 /// Appends `part` (blocks made by append into an empty Geometry) to geo.
 void append(Geometry& geo, const Geometry& part) {
   const std::int64_t v0 = std::int64_t(geo.vertices.size());
@@ -629,6 +913,12 @@ void append(Geometry& geo, const Geometry& part) {
 }
 
 }  // namespace
+
+int orientation_sign(const Vec3& p, const Vec3& q, const Vec3& r, const Vec3& s) {
+  const std::vector<Point> pts{
+      {p.x(), p.y(), p.z()}, {q.x(), q.y(), q.z()}, {r.x(), r.y(), r.z()}, {s.x(), s.y(), s.z()}};
+  return int(Orientation3(pts)(pts[0], pts[1], pts[2], pts[3]));
+}
 
 GeometryStats compute_geometry(const BlockSystem& bs, const GeometrySink& sink,
                                const Progress& progress, int threads) {
@@ -674,6 +964,8 @@ GeometryStats compute_geometry(const BlockSystem& bs, const GeometrySink& sink,
         Scratch3d scratch;  // a chunk's blocks reuse one set of working arrays
         BlockGeometry g;
         for (std::size_t i = lo; i < hi; ++i) {
+          if (i + 2 < hi) joint_edges.prefetch_offsets(bs.blocks[i + 2]);
+          if (i + 1 < hi) joint_edges.prefetch_planes(bs.blocks[i + 1]);
           if (bs.joints.dimension == 2)
             g = block_geometry(bs.blocks[i], bs.joints, tol, i);
           else
@@ -690,6 +982,7 @@ GeometryStats compute_geometry(const BlockSystem& bs, const GeometrySink& sink,
   const auto gather = [&](Wave& wave) {
     if (wave.parts.empty()) return true;
     Geometry run;
+    reserve(run, wave.parts);
     for (std::size_t c = 0; c < wave.parts.size(); ++c) {
       if (wave.failure[c]) {
         failure = wave.failure[c];
