@@ -19,10 +19,17 @@ class UnionFind {
     while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
     return x;
   }
-  void join(std::size_t a, std::size_t b) { parent_[root(a)] = root(b); }
+  void join(std::size_t a, std::size_t b) {
+    const std::size_t ra = root(a), rb = root(b);
+    parent_[ra] = rb;
+    joined_ = joined_ || ra != rb;
+  }
+  /// Whether two sets were ever joined.
+  bool joined() const { return joined_; }
 
  private:
   std::vector<std::size_t> parent_;
+  bool joined_ = false;
 };
 
 /// A face of a block on a joint's plane.
@@ -250,6 +257,15 @@ BodyStats form_bodies(std::vector<Block>& blocks, const JointSystem& js, Referee
                                   : is_sliver(blocks[i], js.options, tol) ? Kind::sliver
                                                                           : Kind::kept;
                     });
+  if (!sets.joined() && std::find(kind.begin(), kind.end(), Kind::sliver) == kind.end()) {
+    // Every block a body of its own, none a sliver: no cluster (as below, without its arrays).
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i != range.end(); ++i)
+                          blocks[i].cluster = -1;
+                      });
+    return st;
+  }
   std::vector<std::size_t> body(n);  // the root of each block's set
   for (std::size_t i = 0; i < n; ++i) body[i] = sets.root(i);
   std::vector<std::size_t> members(n, 0), thin(n, 0);
