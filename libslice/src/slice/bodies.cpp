@@ -11,25 +11,31 @@
 namespace slice {
 namespace {
 
-/// Disjoint sets of blocks (union by pointing one root at the other, path halving).
+/// Disjoint sets of blocks (union by pointing one root at the other, path halving). Each block
+/// its own set until the first join (no array until then).
 class UnionFind {
  public:
-  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+  explicit UnionFind(std::size_t n) : n_(n) {}
   std::size_t root(std::size_t x) {
+    if (parent_.empty()) return x;
     while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
     return x;
   }
   void join(std::size_t a, std::size_t b) {
     const std::size_t ra = root(a), rb = root(b);
+    if (ra == rb) return;
+    if (parent_.empty()) {
+      parent_.resize(n_);
+      std::iota(parent_.begin(), parent_.end(), std::size_t(0));
+    }
     parent_[ra] = rb;
-    joined_ = joined_ || ra != rb;
   }
   /// Whether two sets were ever joined.
-  bool joined() const { return joined_; }
+  bool joined() const { return !parent_.empty(); }
 
  private:
+  std::size_t n_;
   std::vector<std::size_t> parent_;
-  bool joined_ = false;
 };
 
 /// A face of a block on a joint's plane.
@@ -249,23 +255,20 @@ BodyStats form_bodies(std::vector<Block>& blocks, const JointSystem& js, Referee
   // Sliver bodies: a free block under the limits, or a cluster of such blocks only (thin pieces
   // on both sides of an exempt cut): either would be one of the model's smallest bodies. Each
   // block's kind on every thread (the blocks' fields are all the work); the rest on arrays.
+  // Its cluster is -1 until the ids below are given.
   std::vector<Kind> kind(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i)
-                        kind[i] = (blocks[i].flags & kRemoved)            ? Kind::removed
-                                  : is_sliver(blocks[i], js.options, tol) ? Kind::sliver
-                                                                          : Kind::kept;
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        Block& b = blocks[i];
+                        b.cluster = -1;
+                        kind[i] = (b.flags & kRemoved)            ? Kind::removed
+                                  : is_sliver(b, js.options, tol) ? Kind::sliver
+                                                                  : Kind::kept;
+                      }
                     });
-  if (!sets.joined() && std::find(kind.begin(), kind.end(), Kind::sliver) == kind.end()) {
-    // Every block a body of its own, none a sliver: no cluster (as below, without its arrays).
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t i = range.begin(); i != range.end(); ++i)
-                          blocks[i].cluster = -1;
-                      });
-    return st;
-  }
+  // Every block a body of its own, none a sliver: no cluster (what follows would give that).
+  if (!sets.joined() && std::find(kind.begin(), kind.end(), Kind::sliver) == kind.end()) return st;
   std::vector<std::size_t> body(n);  // the root of each block's set
   for (std::size_t i = 0; i < n; ++i) body[i] = sets.root(i);
   std::vector<std::size_t> members(n, 0), thin(n, 0);
