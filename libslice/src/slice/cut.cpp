@@ -899,16 +899,32 @@ class Cutter {
     for (std::size_t g = 0; g < groups; ++g)
       for (const std::size_t i : members[g]) spheres[g].add(sub.blocks[i].bsphere);
 
-    // The joints of each group.
+    // The joints of each group: the groups each joint may reach (bits), on every thread (the
+    // root's hand-out tests all the joints).
+    static_assert(kGroups <= 8);
+    std::vector<std::uint8_t> reached(task.joints.size() - k, 0);
+    // Isolated: a thread waiting here runs only these tests, not another task (whose children
+    // would then wait for it).
+    tbb::this_task_arena::isolate([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, reached.size(), 1024),
+                        [&](const tbb::blocked_range<std::size_t>& range) {
+                          std::vector<std::uint8_t> mask;
+                          for (std::size_t m = range.begin(); m != range.end(); ++m) {
+                            const std::size_t j = task.joints[k + m];
+                            const Joint& joint = js_.joints[j];
+                            const bool all =
+                                !opt_.use_index ||
+                                (joint.kind == JointKind::boundary && joint.persistent());
+                            for (std::size_t g = 0; g < groups; ++g)
+                              if (all || spheres[g].may_reach(prepared_[j], ctx_.tol.cut, mask))
+                                reached[m] |= std::uint8_t(1u << g);
+                          }
+                        });
+    });
     std::vector<std::vector<std::size_t>> lists(groups);
-    std::vector<std::uint8_t> mask;
-    for (std::size_t m = k; m < task.joints.size(); ++m) {
-      const std::size_t j = task.joints[m];
-      const Joint& joint = js_.joints[j];
-      const bool all = !opt_.use_index || (joint.kind == JointKind::boundary && joint.persistent());
+    for (std::size_t m = 0; m < reached.size(); ++m)
       for (std::size_t g = 0; g < groups; ++g)
-        if (all || spheres[g].may_reach(prepared_[j], ctx_.tol.cut, mask)) lists[g].push_back(j);
-    }
+        if (reached[m] >> g & 1u) lists[g].push_back(task.joints[k + m]);
     // The progress bar's total: the pairs handed out replace the task's unprocessed ones.
     for (const auto& l : lists) assigned_ += l.size();
     assigned_ -= task.joints.size() - k;
