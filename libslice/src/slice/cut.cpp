@@ -83,7 +83,7 @@ void resize_prefaulted(std::vector<Block>& v, std::size_t n) {
 // holds CutOptions::tasks blocks, then hands them, in kGroups spatially compact groups, to child
 // tasks, each given the task's remaining joints that reach one of its blocks' spheres. Whether
 // and where a task splits depends only on its own blocks, never on the threads. The blocks are
-// then put back in the order one sequential subdivision makes them (split_order), so blocks.h5 is
+// then put back in the order one sequential subdivision makes them (SplitOrder), so blocks.h5 is
 // the same bytes for every thread count; the figures a run reports add up over the tasks, so they
 // are the same too.
 
