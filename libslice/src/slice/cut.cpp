@@ -19,6 +19,10 @@
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
+#ifdef __linux__
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
 #include <exception>
 #include <memory>
 #include <mutex>
@@ -52,6 +56,26 @@ void move_origin(Block& b, const Vec3& shift) {
   b.origin += shift;
 }
 
+/// Sizes `v` (empty) to n blocks. A fresh array's pages are first faulted in on every thread:
+/// the kernel zeroing them is most of its cost (1e6 blocks: 0.2-0.3 s on one thread here).
+void resize_prefaulted(std::vector<Block>& v, std::size_t n) {
+  v.reserve(n);
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
+  const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  const std::uintptr_t chunk = page * 1024;
+  const auto at = reinterpret_cast<std::uintptr_t>(v.data());
+  const std::uintptr_t lo = (at + page - 1) / page * page,
+                       hi = (at + n * sizeof(Block)) / page * page;
+  if (page > 0 && hi > lo)
+    tbb::parallel_for(lo, hi, chunk, [&](std::uintptr_t a) {
+      // On failure (a kernel before 5.14) the pages fault in below, as without this.
+      static_cast<void>(
+          madvise(reinterpret_cast<void*>(a), std::min(chunk, hi - a), MADV_POPULATE_WRITE));
+    });
+#endif
+  v.resize(n);
+}
+
 // ---- Threads (issue 15) ------------------------------------------------------------------------
 // The subdivision is sequential by nature, yet once a joint has split a block, what happens to
 // each piece later depends only on that piece and on the joints that reach it. So the cut is a
@@ -59,7 +83,7 @@ void move_origin(Block& b, const Vec3& shift) {
 // holds CutOptions::tasks blocks, then hands them, in kGroups spatially compact groups, to child
 // tasks, each given the task's remaining joints that reach one of its blocks' spheres. Whether
 // and where a task splits depends only on its own blocks, never on the threads. The blocks are
-// then put back in the order one sequential subdivision makes them (split_order), so blocks.h5 is
+// then put back in the order one sequential subdivision makes them (SplitOrder), so blocks.h5 is
 // the same bytes for every thread count; the figures a run reports add up over the tasks, so they
 // are the same too.
 
@@ -557,7 +581,7 @@ struct Task {
 };
 
 constexpr std::size_t kGroups = 8;       // child tasks per split
-constexpr std::size_t kNone = SIZE_MAX;  // no parent, no number yet
+constexpr std::size_t kNone = SIZE_MAX;  // no parent
 
 /// A 30-bit Morton code of a point of the box [lo, hi]: sorting by it keeps neighbours together.
 std::uint32_t morton(const Vec3& p, const Vec3& lo, const Vec3& hi) {
@@ -575,55 +599,88 @@ std::uint32_t morton(const Vec3& p, const Vec3& lo, const Vec3& hi) {
 /// The order one thread makes blocks in: at each joint, the blocks it splits in increasing
 /// (global) number, each keeping its number for the side below and appending the side above.
 /// `tasks` lists the tree parents first; parent[t] is t's parent (kNone for the root, whose
-/// block 0 is the domain, global block 0). Returns, per task, the global number of each block
-/// it made or was handed.
-std::vector<std::vector<std::size_t>> split_order(const std::vector<Task*>& tasks,
-                                                  const std::vector<std::size_t>& parent) {
-  std::vector<std::vector<std::size_t>> global(tasks.size());
-  struct Tagged {
-    std::size_t task;
-    const SplitEvent* event;
-  };
-  std::vector<Tagged> all;
-  std::size_t count = 0;
-  for (std::size_t t = 0; t < tasks.size(); ++t) {
-    global[t].assign(tasks[t]->sub.size(), kNone);
-    count += tasks[t]->sub.events.size();
-  }
-  global[0][0] = 0;
-  // A root's number is its number in the parent, which was made at an earlier joint.
-  const auto number = [&](std::size_t t, std::size_t i) {
-    std::size_t u = t, k = i;
-    while (global[u][k] == kNone) {
-      SLICE_ASSERT(k < tasks[u]->from.size());
-      k = tasks[u]->from[k];
-      u = parent[u];
+/// block 0 is the domain, global block 0).
+///
+/// Each block made has an id: 0 for the domain, 1 + e for the piece above of the e-th split (the
+/// tasks' events counted in task order; a task's k-th split appended its block roots + k). A
+/// task's root is a block of its parent, made at an earlier joint. The ids of the blocks split
+/// are found on every thread and bucketed by joint; only the numbering is one pass, joint after
+/// joint (a piece's number needs the numbers of the blocks split at the same joint).
+class SplitOrder {
+ public:
+  SplitOrder(const std::vector<Task*>& tasks, const std::vector<std::size_t>& parent,
+             std::size_t joints)
+      : tasks_(tasks), parent_(parent), first_(tasks.size() + 1, 0), splits_at_(joints, 0) {
+    for (std::size_t t = 0; t < tasks.size(); ++t)
+      first_[t + 1] = first_[t] + tasks[t]->sub.events.size();
+    for_each_task([&](std::size_t t) {
+      for (const SplitEvent& e : tasks_[t]->sub.events)
+        std::atomic_ref(splits_at_[e.joint]).fetch_add(1, std::memory_order_relaxed);
+    });
+    // The splits by joint, each as (id of the block split, event). Their order within a joint
+    // depends on the threads; sorting them by the block's number (unique there) does not.
+    std::vector<std::size_t> cursor(joints, 0);
+    for (std::size_t j = 0; j + 1 < joints; ++j) cursor[j + 1] = cursor[j] + splits_at_[j];
+    std::vector<std::size_t> end = cursor;
+    struct Split {
+      std::size_t key, event;
+    };
+    std::vector<Split> by_joint(first_.back());
+    for_each_task([&](std::size_t t) {
+      const auto& events = tasks_[t]->sub.events;
+      for (std::size_t k = 0; k < events.size(); ++k) {
+        const SplitEvent& e = events[k];
+        SLICE_ASSERT(e.child == roots(t) + k);
+        const std::size_t at =
+            std::atomic_ref(end[e.joint]).fetch_add(1, std::memory_order_relaxed);
+        by_joint[at] = {id(t, e.block), first_[t] + k};
+      }
+    });
+    number_.assign(first_.back() + 1, 0);
+    std::size_t next = 1;
+    for (std::size_t j = 0; j < joints; ++j) {
+      const auto lo = by_joint.begin() + std::ptrdiff_t(cursor[j]);
+      const auto hi = lo + std::ptrdiff_t(splits_at_[j]);
+      for (auto s = lo; s != hi; ++s) s->key = number_[s->key];
+      std::sort(lo, hi, [](const Split& a, const Split& b) { return a.key < b.key; });
+      for (auto s = lo; s != hi; ++s) number_[1 + s->event] = next++;
     }
-    return global[t][i] = global[u][k];
-  };
-  all.reserve(count);
-  for (std::size_t t = 0; t < tasks.size(); ++t)
-    for (const SplitEvent& e : tasks[t]->sub.events) all.push_back({t, &e});
-  // Each task's events are in joint order already: a stable sort keeps their order per joint.
-  std::stable_sort(all.begin(), all.end(), [](const Tagged& a, const Tagged& b) {
-    return a.event->joint < b.event->joint;
-  });
-  std::size_t next = 1;
-  std::vector<std::pair<std::size_t, std::size_t>> group;  // (number of the split block, k)
-  for (std::size_t lo = 0; lo < all.size();) {
-    std::size_t hi = lo;
-    while (hi < all.size() && all[hi].event->joint == all[lo].event->joint) ++hi;
-    group.clear();
-    for (std::size_t k = lo; k < hi; ++k)
-      group.emplace_back(number(all[k].task, all[k].event->block), k);
-    std::sort(group.begin(), group.end());
-    for (const auto& [key, k] : group) global[all[k].task][all[k].event->child] = next++;
-    lo = hi;
   }
-  for (std::size_t t = 0; t < tasks.size(); ++t)
-    for (std::size_t i = 0; i < global[t].size(); ++i) number(t, i);
-  return global;
-}
+
+  /// Splits made at each joint.
+  const std::vector<std::size_t>& splits_at() const { return splits_at_; }
+  /// The global number of block i of task t.
+  std::size_t number(std::size_t t, std::size_t i) const { return number_[id(t, i)]; }
+
+  /// Calls f(t) for every task t, on every thread.
+  template <typename F>
+  void for_each_task(F&& f) const {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tasks_.size()),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t t = range.begin(); t != range.end(); ++t) f(t);
+                      });
+  }
+
+ private:
+  const std::vector<Task*>& tasks_;
+  const std::vector<std::size_t>& parent_;
+  std::vector<std::size_t> first_;      // per task, its first event (task order), then all
+  std::vector<std::size_t> splits_at_;  // by joint
+  std::vector<std::size_t> number_;     // by id
+
+  /// The blocks task t started with: the domain for the root, else those it was handed.
+  std::size_t roots(std::size_t t) const {
+    return parent_[t] == kNone ? 1 : tasks_[t]->from.size();
+  }
+  std::size_t id(std::size_t t, std::size_t i) const {
+    while (parent_[t] != kNone && i < tasks_[t]->from.size()) {
+      i = tasks_[t]->from[i];
+      t = parent_[t];
+    }
+    const std::size_t r = roots(t);
+    return i < r ? 0 : 1 + first_[t] + (i - r);
+  }
+};
 
 class Cutter {
  public:
@@ -648,11 +705,6 @@ class Cutter {
       const auto t0 = Clock::now();
       subdivide();
       stats_.seconds_cut = seconds_since(t0);
-#ifdef __GLIBC__
-      // The tasks' many small arrays are freed now; give their pages back before the blocks are
-      // pruned and written (1.0 m Table 3 scene: peak RSS 1.75 GB -> 1.62 GB).
-      malloc_trim(0);
-#endif
       const auto t1 = Clock::now();
       finish();
       stats_.seconds_finish = seconds_since(t1);
@@ -756,10 +808,16 @@ class Cutter {
         parent.push_back(t);
       }
 
+    // The block array, made while the splits are numbered.
+    std::size_t count = 1;
+    for (const Task* t : tasks) count += t->sub.events.size();
+    tbb::task_group allocation;
+    allocation.run([&] { resize_prefaulted(blocks_, count); });
+    const SplitOrder order(tasks, parent, joints);
+
     // Figures: as if one subdivision had run. A joint-block pair is skipped unless the cut LP
     // saw it; there were as many blocks at joint j as the domain and the earlier splits make.
     std::vector<std::uint8_t> cut(joints, 0);
-    std::vector<std::size_t> splits_at(joints, 0);
     for (const Task* t : tasks) {
       const Subdivision& s = t->sub;
       add(stats_.lps, s.lps);
@@ -771,23 +829,22 @@ class Cutter {
       stats_.rejected_faces += s.rejected[std::size_t(CutReject::faces)];
       stats_.settled_by_limit += s.settled_by_limit;
       for (const std::size_t j : s.joints_that_cut) cut[j] = 1;
-      for (const SplitEvent& e : s.events) ++splits_at[e.joint];
     }
-    std::size_t count = 1;
+    std::size_t made = 1;  // blocks before joint j
     for (std::size_t j = 0; j < joints; ++j) {
-      stats_.pairs_skipped += count;
-      count += splits_at[j];
+      stats_.pairs_skipped += made;
+      made += order.splits_at()[j];
       stats_.joints_missing += cut[j] ? 0 : 1;
     }
 
-    const auto global = split_order(tasks, parent);
-    blocks_.assign(count, Block{});
-    for (std::size_t t = 0; t < tasks.size(); ++t) {
-      if (!tasks[t]->children.empty()) continue;  // its blocks went to its children
+    allocation.wait();
+    order.for_each_task([&](std::size_t t) {
+      if (!tasks[t]->children.empty()) return;  // its blocks went to its children
       auto& blocks = tasks[t]->sub.blocks;
-      for (std::size_t i = 0; i < blocks.size(); ++i) blocks_[global[t][i]] = std::move(blocks[i]);
+      for (std::size_t i = 0; i < blocks.size(); ++i)
+        blocks_[order.number(t, i)] = std::move(blocks[i]);
       std::vector<Block>().swap(blocks);  // the peak: keep one copy of the block array
-    }
+    });
   }
 
   /// Cuts the task's blocks by its joints until it holds opt.tasks blocks; then its children
@@ -842,16 +899,32 @@ class Cutter {
     for (std::size_t g = 0; g < groups; ++g)
       for (const std::size_t i : members[g]) spheres[g].add(sub.blocks[i].bsphere);
 
-    // The joints of each group.
+    // The joints of each group: the groups each joint may reach (bits), on every thread (the
+    // root's hand-out tests all the joints).
+    static_assert(kGroups <= 8);
+    std::vector<std::uint8_t> reached(task.joints.size() - k, 0);
+    // Isolated: a thread waiting here runs only these tests, not another task (whose children
+    // would then wait for it).
+    tbb::this_task_arena::isolate([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, reached.size(), 1024),
+                        [&](const tbb::blocked_range<std::size_t>& range) {
+                          std::vector<std::uint8_t> mask;
+                          for (std::size_t m = range.begin(); m != range.end(); ++m) {
+                            const std::size_t j = task.joints[k + m];
+                            const Joint& joint = js_.joints[j];
+                            const bool all =
+                                !opt_.use_index ||
+                                (joint.kind == JointKind::boundary && joint.persistent());
+                            for (std::size_t g = 0; g < groups; ++g)
+                              if (all || spheres[g].may_reach(prepared_[j], ctx_.tol.cut, mask))
+                                reached[m] |= std::uint8_t(1u << g);
+                          }
+                        });
+    });
     std::vector<std::vector<std::size_t>> lists(groups);
-    std::vector<std::uint8_t> mask;
-    for (std::size_t m = k; m < task.joints.size(); ++m) {
-      const std::size_t j = task.joints[m];
-      const Joint& joint = js_.joints[j];
-      const bool all = !opt_.use_index || (joint.kind == JointKind::boundary && joint.persistent());
+    for (std::size_t m = 0; m < reached.size(); ++m)
       for (std::size_t g = 0; g < groups; ++g)
-        if (all || spheres[g].may_reach(prepared_[j], ctx_.tol.cut, mask)) lists[g].push_back(j);
-    }
+        if (reached[m] >> g & 1u) lists[g].push_back(task.joints[k + m]);
     // The progress bar's total: the pairs handed out replace the task's unprocessed ones.
     for (const auto& l : lists) assigned_ += l.size();
     assigned_ -= task.joints.size() - k;
@@ -875,6 +948,13 @@ class Cutter {
   }
 
   void finish() {
+    tbb::task_group trim;
+#ifdef __GLIBC__
+    // The tasks' many small arrays are freed now; give their pages back before the blocks are
+    // pruned and written (1.0 m Table 3 scene: peak RSS 1.75 GB -> 1.62 GB), on one thread while
+    // the others find the centres.
+    trim.run([] { malloc_trim(0); });
+#endif
     // Chebyshev centre: the origin of every block, its inradius. Blocks are independent.
     std::atomic<std::size_t> done{0};
     tbb::combinable<LpCounts> lps;
@@ -894,21 +974,26 @@ class Cutter {
                         const std::size_t n = done += range.size();
                         report("centres", n, blocks_.size());
                       });
+    trim.wait();
     lps.combine_each([&](const LpCounts& c) { add(stats_.lps, c); });
     // Removal zones: blocks whose centre is inside are removed (kept in the file, flagged).
     std::vector<MeshInside> meshes;
     for (const TriangleMesh& m : js_.zone_meshes) meshes.emplace_back(m);
-    for (Block& b : blocks_) {
-      for (const Region& z : js_.zones) {
-        const bool inside = std::all_of(z.planes.begin(), z.planes.end(),
-                                        [&](const Plane& p) { return p.distance(b.origin) < 0; });
-        if (inside) b.flags |= kRemoved;
-      }
-      for (const MeshInside& inside : meshes)
-        if (!(b.flags & kRemoved) && inside(b.origin)) b.flags |= kRemoved;
-      stats_.boundary += (b.flags & kBoundary) ? 1 : 0;
-      stats_.removed += (b.flags & kRemoved) ? 1 : 0;
-    }
+    std::atomic<std::size_t> boundary{0}, removed{0};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        std::size_t on_boundary = 0, inside_zone = 0;
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          Block& b = blocks_[i];
+                          if (in_zone(b.origin, meshes)) b.flags |= kRemoved;
+                          on_boundary += (b.flags & kBoundary) ? 1 : 0;
+                          inside_zone += (b.flags & kRemoved) ? 1 : 0;
+                        }
+                        boundary += on_boundary;
+                        removed += inside_zone;
+                      });
+    stats_.boundary += boundary;
+    stats_.removed += removed;
     if (js_.options.fixed_faces) mark_fixed();
     // Clusters, and the slivers exempt cuts leave (bodies.hpp): removed with an excavation, or
     // joined to a neighbour.
@@ -921,6 +1006,16 @@ class Cutter {
     stats_.slivers_removed = b.slivers_removed;
     stats_.slivers_joined = b.slivers_joined;
     stats_.slivers_left = b.slivers_left;
+  }
+
+  /// Whether a block's centre `x` is inside a removal zone (`meshes`: the mesh zones').
+  bool in_zone(const Vec3& x, const std::vector<MeshInside>& meshes) const {
+    for (const Region& z : js_.zones)
+      if (std::all_of(z.planes.begin(), z.planes.end(),
+                      [&](const Plane& p) { return p.distance(x) < 0; }))
+        return true;
+    return std::any_of(meshes.begin(), meshes.end(),
+                       [&](const MeshInside& inside) { return inside(x); });
   }
 
   // [options] fixed_faces: a block that reaches a named face of the domain's bounding box, to
