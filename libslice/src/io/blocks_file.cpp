@@ -295,8 +295,9 @@ using namespace h5file;
 
 void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& prov,
                   const WriteOptions& opt) {
-  // The blocks are checked on the other threads while this one writes the .partial file, which
-  // becomes `out` only if they pass. A check's error comes first, as when it ran first.
+  // The blocks (and geometry) are checked on the other threads while this one writes /blocks to
+  // the .partial file, which becomes `out` only if they pass. A check's error comes first, as
+  // when it ran first. /geometry is written after the check: its writer indexes by its offsets.
   tbb::task_group checking;
   checking.run([&] { check_blocks(Checker(out.string(), kNotWritten), bs); });
   std::optional<OpenFile> file;
@@ -304,12 +305,12 @@ void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& 
   try {
     file.emplace(out, FileKind::blocks, prov, bs.joints, opt);
     write_blocks_group(file->f.root(), bs);
-    if (bs.geometry) write_geometry_group(file->f.root(), bs);
   } catch (...) {
     write_error = std::current_exception();
   }
   checking.wait();
   if (write_error) std::rethrow_exception(write_error);
+  if (bs.geometry) write_geometry_group(file->f.root(), bs);
   file->commit();
 }
 
