@@ -11,4 +11,12 @@ void with_threads(int threads, const std::function<void()>& body) {
   arena.execute(body);
 }
 
+void abandon(tbb::task_group& g) {
+  g.cancel();
+  try {
+    g.wait();
+  } catch (...) {
+  }
+}
+
 }  // namespace slice

@@ -2,7 +2,6 @@
 
 #include <lz4.h>
 #include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_group.h>
 #include <sys/types.h>
 #include <zlib.h>
 
@@ -11,6 +10,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "../threads.hpp"
 #include "slice/error.hpp"
 
 namespace slice::vtu {
@@ -66,13 +66,7 @@ File::File(const std::filesystem::path& path, std::string what, VtuCompressor co
 }
 
 File::~File() {
-  if (flying_) {  // an error elsewhere: the task must end before its buffers go
-    compressing_.cancel();
-    try {
-      compressing_.wait();
-    } catch (...) {
-    }
-  }
+  abandon(compressing_);  // after an error elsewhere: the task ends before its buffers go
   if (f_) std::fclose(f_);
 }
 

@@ -14,21 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "../threads.hpp"
 #include "file_common.hpp"
 
 // /blocks; the writers (write_blocks, BlocksFileWriter) and the reader of blocks.h5.
 namespace slice::h5file {
 
 namespace {
-
-// Waits for the tasks of `g`, dropping their errors (another error is on its way).
-void abandon(tbb::task_group& g) {
-  g.cancel();
-  try {
-    g.wait();
-  } catch (...) {
-  }
-}
 
 // A face that names a joint lies on that joint's plane: it was cut by it (or by its sliver
 // rule's merge, which keeps the faces). Its normal is the joint's or the opposite, and its plane
@@ -390,10 +382,8 @@ struct BlocksFileWriter::Impl {
     const std::size_t n = run.volume.size();
     check_geometry(Checker(name, kNotWritten), bs, run, given, n,
                    vertex_tolerance(bs.joints, run.vertices), false);
-    given.face += face_count(std::span(bs.blocks).subspan(given.block, n));
-    given.block += n;
-    given.vertex += std::int64_t(run.vertices.size());
-    given.face_vertex += std::int64_t(run.face_vertices.size());
+    given.advance(n, face_count(std::span(bs.blocks).subspan(given.block, n)), run.vertices.size(),
+                  run.face_vertices.size());
     const std::size_t bytes = run_bytes(run);
     {
       std::unique_lock lock(mutex);

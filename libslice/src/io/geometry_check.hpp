@@ -17,6 +17,14 @@ namespace slice {
 struct GeometryBase {
   std::size_t block = 0, face = 0;
   std::int64_t vertex = 0, face_vertex = 0;
+  /// Past a run of `blocks` blocks with these many faces, vertices and loop entries.
+  void advance(std::size_t blocks, std::size_t faces, std::size_t vertices,
+               std::size_t face_vertices) {
+    block += blocks;
+    face += faces;
+    vertex += std::int64_t(vertices);
+    face_vertex += std::int64_t(face_vertices);
+  }
 };
 
 /// What is wrong with the values of block b of the run `g` (the file's block base.block + b, its

@@ -221,10 +221,7 @@ void GeometryWriter::append(const Geometry& geo, std::size_t first, std::size_t 
   inertia_.append(as_doubles<6>(geo.inertia, first, first + n));
   face_area_.append(std::span(geo.face_area).subspan(first_face, faces));
   face_joint_fraction_.append(std::span(geo.face_joint_fraction).subspan(first_face, faces));
-  next_.block += n;
-  next_.face += faces;
-  next_.vertex += std::int64_t(v1 - v0);
-  next_.face_vertex += std::int64_t(fv1 - fv0);
+  next_.advance(n, faces, v1 - v0, fv1 - fv0);
 }
 
 void GeometryWriter::finish() {
