@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "io/file_common.hpp"
 #include "io/h5/h5.hpp"
 #include "slice/cut.hpp"
 #include "slice/error.hpp"
@@ -280,5 +281,79 @@ TEST_CASE("/geometry streamed run by run while it is computed gives write_blocks
                              std::to_string(slice::kGeometryRun + 5) + " is -1") &&
                         Contains("nothing was written"));
     CHECK_FALSE(std::filesystem::exists(dir / "bad.h5"));
+  }
+}
+
+TEST_CASE("the reader checks /geometry run by run as it reads and decides as a whole check does",
+          "[h5io][geometry]") {
+  test::TempDir dir;
+  // 68,921 cubes: two runs of the reader (kBatch blocks each). The last cube is moved far out, so
+  // that the file's vertex tolerance (its largest coordinate's) is wider than the first run's.
+  auto grid = cubes(41);
+  REQUIRE(grid.blocks.size() > slice::h5file::kBatch);
+  grid.blocks.back().origin += slice::Vec3(1e7, 0, 0);
+  grid.blocks.back().bsphere.head<3>() += slice::Vec3(1e7, 0, 0);
+  slice::compute_geometry(grid, {}, 2);
+  const slice::Geometry& g = *grid.geometry;
+  double first_run = 0, file = 0;
+  for (std::size_t v = 0; v < g.vertices.size(); ++v) {
+    const double c = g.vertices[v].cwiseAbs().maxCoeff();
+    file = std::max(file, c);
+    if (v < std::size_t(g.vertex_offset[slice::h5file::kBatch])) first_run = std::max(first_run, c);
+  }
+  const double run_tol = slice::h5file::vertex_tolerance(grid.joints, first_run);
+  const double file_tol = slice::h5file::vertex_tolerance(grid.joints, file);
+  REQUIRE(file_tol > 1.5 * run_tol);
+  // Vertex 0 of block 1 (a corner of the cube (0, 0, 1)), moved along x off its x face.
+  const auto written = [&](double dx) {
+    auto bs = grid;
+    bs.geometry->vertices[std::size_t(g.vertex_offset[1])].x() += dx;
+    slice::write_blocks(dir / "g.h5", bs, {});
+    return dir / "g.h5";
+  };
+  SECTION("the right /geometry reads back unchanged") {
+    const auto back = slice::read_blocks(written(0));
+    REQUIRE(back.geometry);
+    check_same(g, *back.geometry);
+  }
+  SECTION("off by more than the run's tolerance, less than the file's: accepted") {
+    const double dx = -0.5 * (run_tol + file_tol);
+    const auto p = written(dx);  // the writer checks the whole with the file's tolerance too
+    const auto back = slice::read_blocks(p);
+    REQUIRE(back.geometry);
+    CHECK(back.geometry->vertices[std::size_t(g.vertex_offset[1])].x() ==
+          g.vertices[std::size_t(g.vertex_offset[1])].x() + dx);
+  }
+  SECTION("off by more than the file's tolerance: refused, naming the vertex row") {
+    const std::size_t row = std::size_t(g.vertex_offset[1]);
+    {  // past the writer's own check: spoiled in the file
+      slice::write_blocks(dir / "g.h5", grid, {});
+      slice::h5::File f = slice::h5::File::open(dir / "g.h5", {"g.h5", ""}, true);
+      const auto geo = f.root().open_group("geometry");
+      auto v = geo.read<double>("vertices", 3);
+      v[3 * row] -= 2 * file_tol;
+      geo.remove("vertices");
+      geo.write<double>("vertices", v, 3);
+      f.close();
+    }
+    const std::string msg = error_of([&] { slice::read_blocks(dir / "g.h5"); });
+    CHECK_THAT(msg, Contains("/geometry/vertices row " + std::to_string(row)) &&
+                        Contains("outside face") && Contains("of block 1 "));
+  }
+  SECTION("bad values in both runs: the first bad block is named") {
+    const std::size_t second = slice::h5file::kBatch + 7;
+    for (const std::size_t spoiled : {std::size_t(3), second}) {
+      slice::write_blocks(dir / "g.h5", grid, {});
+      slice::h5::File f = slice::h5::File::open(dir / "g.h5", {"g.h5", ""}, true);
+      const auto geo = f.root().open_group("geometry");
+      auto vol = geo.read<double>("volume");
+      vol[second] = 2;  // a unit cube
+      vol[spoiled] = 2;
+      geo.remove("volume");
+      geo.write<double>("volume", vol);
+      f.close();
+      const std::string msg = error_of([&] { slice::read_blocks(dir / "g.h5"); });
+      CHECK_THAT(msg, Contains("/geometry/volume row " + std::to_string(spoiled) + " is 2"));
+    }
   }
 }

@@ -17,6 +17,7 @@
 #include <string>
 #include <utility>
 
+#include "../prefetch.hpp"
 #include "../threads.hpp"
 #include "slice/error.hpp"
 #include "slice/lp.hpp"
@@ -650,11 +651,6 @@ struct JointEdges {
       if (e - p > 64) prefetch(p + 64);
       prefetch(e - 1);
     }
-  }
-  // __builtin_prefetch, kept: GCC 12 (-O2) deletes a loop whose only effects are prefetches.
-  static void prefetch(const void* p) {
-    __builtin_prefetch(p);
-    asm volatile("");
   }
 };
 

@@ -3,6 +3,7 @@
 #include <oneapi/tbb/task_group.h>
 
 #include <algorithm>
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -14,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "../prefetch.hpp"
 #include "../threads.hpp"
 #include "file_common.hpp"
 
@@ -86,7 +88,10 @@ void check_blocks(const Checker& c, const BlockSystem& bs, bool with_geometry = 
   for (const Joint& j : bs.joints.joints) planes.push_back(j.plane);
   const bool section = bs.joints.dimension == 2;
   check_runs(bs.blocks, [&](std::size_t lo, std::size_t hi, std::size_t face_row) {
-    for (std::size_t b = lo; b < hi; ++b) check_block(c, bs, planes, section, b, face_row);
+    for (std::size_t b = lo; b < hi; ++b) {
+      prefetch_faces_ahead(bs.blocks, b);
+      check_block(c, bs, planes, section, b, face_row);
+    }
   });
   if (with_geometry && bs.geometry) check_geometry(c, bs);
 }
@@ -131,6 +136,7 @@ void write_blocks_group(const Group& root, const BlockSystem& bs) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          prefetch_faces_ahead(bs.blocks, b0 + i);
                           const Block& b = bs.blocks[b0 + i];
                           for (int k = 0; k < 3; ++k) r.o[3 * i + k] = b.origin[k];
                           std::size_t f =
@@ -474,22 +480,45 @@ BlockSystem read_blocks(const fs::path& in) {
     blocks_checked();
     return bs;
   }
-  // The blocks are checked on the other threads while this one reads /geometry. An error in
-  // reading /geometry is reported first, as when the two ran one after the other.
-  tbb::task_group checking;
+  // The blocks are checked on the other threads while this one reads /geometry, and then each
+  // run of /geometry as it comes in. Errors come in the order they would one after the other: a
+  // read error, then the blocks', then /geometry's (check_geometry's, whose message names the
+  // first bad row: a run that fails its own check, or whose values are off, sends it there).
+  tbb::task_group checking, values;
   checking.run(blocks_checked);
+  std::atomic<bool> rows_failed{false};
+  const auto check_run = [&](std::size_t lo, std::size_t hi, std::size_t face) {
+    // In pieces for both threads once the reading is over (face: the piece's first face row).
+    constexpr std::size_t kPiece = 4096;
+    for (std::size_t b = lo; b < hi; b += kPiece) {
+      const std::size_t e = std::min(hi, b + kPiece);
+      values.run([&, b, e, face] {
+        if (!rows_failed && !geometry_rows_pass(bs, *bs.geometry, b, e, face)) rows_failed = true;
+      });
+      face += face_count(std::span(bs.blocks).subspan(b, e - b));
+    }
+  };
+  bs.geometry.emplace();
   try {
-    bs.geometry = read_geometry_group(f.root(), bs.blocks);
+    read_geometry_group(f.root(), bs.blocks, *bs.geometry, check_run);
   } catch (const Error& e) {  // slice-vertices wrote /geometry, not slice-cut
+    abandon(values);
     abandon(checking);
     if (e.fix() != kBlocksFix) throw;
     throw Error(e.where(), e.problem(), kGeometryFix);
   } catch (...) {
+    abandon(values);
     abandon(checking);
     throw;
   }
-  checking.wait();
-  check_geometry(Checker(in.string(), kGeometryFix), bs);
+  try {
+    checking.wait();
+  } catch (...) {
+    abandon(values);
+    throw;
+  }
+  values.wait();
+  if (rows_failed) check_geometry(Checker(in.string(), kGeometryFix), bs);
   return bs;
 }
 

@@ -103,6 +103,8 @@ class Checker {
 void check_joints(const Checker& c, const JointSystem& js);
 // How far a stored vertex may lie off its faces (geometry_file.cpp says why).
 double vertex_tolerance(const JointSystem& js, const std::vector<Vec3>& vertices);
+// The same for a largest coordinate `coord` (of the vertices at hand).
+double vertex_tolerance(const JointSystem& js, double coord);
 // The geometry `g` of the n blocks from base.block on against the blocks it describes.
 // `concurrent`: as for check_runs.
 void check_geometry(const Checker& c, const BlockSystem& bs, const Geometry& g,
@@ -204,7 +206,17 @@ FileHeader read_root_header(const Group& root);
 void expect_kind(const Group& root, FileKind want);
 // The joint groups both kinds hold (joints_file.cpp).
 JointSystem read_joint_groups(const Group& root);
-// /geometry, shapes checked against the blocks (geometry_file.cpp).
-Geometry read_geometry_group(const Group& root, const std::vector<Block>& blocks);
+// /geometry into `geo`, shapes checked against the blocks (geometry_file.cpp), read in runs of
+// kBatch blocks; run_read(lo, hi, face) once the rows of blocks [lo, hi) are in (`face`: the row
+// of block lo's first face). The arrays of `geo` have their sizes before the first call.
+using RunRead = std::function<void(std::size_t, std::size_t, std::size_t)>;
+void read_geometry_group(const Group& root, const std::vector<Block>& blocks, Geometry& geo,
+                         const RunRead& run_read = {});
+// Whether blocks [lo, hi) of the whole /geometry `g` (its shapes checked, those rows in; `face`:
+// block lo's first face row) pass check_geometry's checks of values with the tolerance of their
+// own vertices. That is no more than the file's, so what passes here passes check_geometry; what
+// fails here may not (check_geometry decides, and says why).
+bool geometry_rows_pass(const BlockSystem& bs, const Geometry& g, std::size_t lo, std::size_t hi,
+                        std::size_t face);
 
 }  // namespace slice::h5file

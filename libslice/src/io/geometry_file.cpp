@@ -17,11 +17,15 @@ namespace slice::h5file {
 // rounds each coordinate once more (half an ulp of the largest coordinate). A writer checks a run
 // of blocks with the run's largest coordinate, no more than the file's: what it writes, a reader
 // accepts.
+double vertex_tolerance(const JointSystem& js, double coord) {
+  const Tolerances tol = Tolerances::from_scale(js.length_scale, js.options.tolerance);
+  return 2 * tol.geometry + 8 * std::numeric_limits<double>::epsilon() * coord;
+}
+
 double vertex_tolerance(const JointSystem& js, const std::vector<Vec3>& vertices) {
   double coord = 0;
   for (const Vec3& v : vertices) coord = std::max(coord, v.cwiseAbs().maxCoeff());
-  const Tolerances tol = Tolerances::from_scale(js.length_scale, js.options.tolerance);
-  return 2 * tol.geometry + 8 * std::numeric_limits<double>::epsilon() * coord;
+  return vertex_tolerance(js, coord);
 }
 
 namespace {
@@ -152,6 +156,25 @@ void check_geometry(const Checker& c, const BlockSystem& bs, const Geometry& g,
       concurrent);
 }
 
+bool geometry_rows_pass(const BlockSystem& bs, const Geometry& g, std::size_t lo, std::size_t hi,
+                        std::size_t face) {
+  const auto v0 = std::size_t(g.vertex_offset[lo]), v1 = std::size_t(g.vertex_offset[hi]);
+  double coord = 0;
+  for (std::size_t v = v0; v < v1; ++v) {
+    if (!g.vertices[v].allFinite()) return false;
+    coord = std::max(coord, g.vertices[v].cwiseAbs().maxCoeff());
+  }
+  const double tol = vertex_tolerance(bs.joints, coord);
+  const Checker c("", "");
+  try {
+    for (std::size_t b = lo; b < hi; ++b)
+      check_block_geometry(c, bs, g, {}, tol, bs.joints.dimension == 2, b, face);
+  } catch (const Error&) {
+    return false;
+  }
+  return true;
+}
+
 // All of /geometry against the blocks.
 void check_geometry(const Checker& c, const BlockSystem& bs) {
   const Geometry& g = *bs.geometry;
@@ -240,40 +263,65 @@ void write_geometry_group(const Group& root, const BlockSystem& bs) {
 }
 
 // /geometry, shapes checked against the blocks before anything is indexed; values are checked
-// by check_geometry.
-Geometry read_geometry_group(const Group& root, const std::vector<Block>& blocks) {
+// by check_geometry. Read in runs of kBatch blocks: `run_read(lo, hi, face)` is called once the
+// rows of blocks [lo, hi) (block lo's first face the row `face`) are all in, for a caller that
+// checks them while the next run is read (in `geo`, whose arrays are sized before the first).
+void read_geometry_group(const Group& root, const std::vector<Block>& blocks, Geometry& geo,
+                         const RunRead& run_read) {
   const Group g = root.open_group("geometry");
   const std::size_t n = blocks.size();
   const std::size_t faces = face_count(blocks);
   const std::string per_block = "the rows of /blocks/origin";
   const std::string per_face = "the rows of /blocks/face_normal";
-  Geometry geo;
+  geo = Geometry();
   geo.vertex_offset = g.read<std::int64_t>("vertex_offset");
   const auto vertices = g.open_rows<double>("vertices", 3);
   check_offsets(g, "vertex_offset", geo.vertex_offset, n, "blocks", vertices.rows(),
                 "/geometry/vertices");
   geo.face_vertex_offset = g.read<std::int64_t>("face_vertex_offset");
-  geo.face_vertices = g.read<std::int64_t>("face_vertices");
+  const auto face_vertices = g.open_rows<std::int64_t>("face_vertices", 0);
   check_offsets(g, "face_vertex_offset", geo.face_vertex_offset, faces, "faces",
-                geo.face_vertices.size(), "/geometry/face_vertices");
-  geo.volume = g.read<double>("volume");
-  expect_rows(g, "volume", geo.volume.size(), n, per_block);
+                face_vertices.rows(), "/geometry/face_vertices");
+  const auto volume = g.open_rows<double>("volume", 0);
+  expect_rows(g, "volume", volume.rows(), n, per_block);
   const auto centroid = g.open_rows<double>("centroid", 3);
   expect_rows(g, "centroid", centroid.rows(), n, per_block);
   const auto inertia = g.open_rows<double>("inertia", 6);
   expect_rows(g, "inertia", inertia.rows(), n, per_block);
-  geo.face_area = g.read<double>("face_area");
-  expect_rows(g, "face_area", geo.face_area.size(), faces, per_face);
-  geo.face_joint_fraction = g.read<double>("face_joint_fraction");
-  expect_rows(g, "face_joint_fraction", geo.face_joint_fraction.size(), faces, per_face);
-  // Read into the rows of Vec3 and Inertia themselves: packed doubles (as_doubles).
+  const auto face_area = g.open_rows<double>("face_area", 0);
+  expect_rows(g, "face_area", face_area.rows(), faces, per_face);
+  const auto fraction = g.open_rows<double>("face_joint_fraction", 0);
+  expect_rows(g, "face_joint_fraction", fraction.rows(), faces, per_face);
+
+  // Into the rows of Vec3 and Inertia themselves: packed doubles (as_doubles).
   geo.vertices.resize(vertices.rows());
-  vertices.read(0, vertices.rows(), as_doubles<3>(geo.vertices));
+  geo.face_vertices.resize(face_vertices.rows());
+  geo.volume.resize(n);
   geo.centroid.resize(n);
-  centroid.read(0, n, as_doubles<3>(geo.centroid));
   geo.inertia.resize(n);
-  inertia.read(0, n, as_doubles<6>(geo.inertia));
-  return geo;
+  geo.face_area.resize(faces);
+  geo.face_joint_fraction.resize(faces);
+  // rows [lo, hi) of `r` into `out`, from its row lo
+  const auto rows = [](const auto& r, std::size_t lo, std::size_t hi, auto* out,
+                       std::size_t width) {
+    if (hi > lo) r.read(lo, hi - lo, out + width * lo);
+  };
+  for (std::size_t b0 = 0, f0 = 0; b0 < n; b0 += kBatch) {
+    const std::size_t b1 = std::min(n, b0 + kBatch);
+    const std::size_t f1 = f0 + face_count(std::span(blocks).subspan(b0, b1 - b0));
+    const auto v0 = std::size_t(geo.vertex_offset[b0]), v1 = std::size_t(geo.vertex_offset[b1]);
+    const auto k0 = std::size_t(geo.face_vertex_offset[f0]);
+    const auto k1 = std::size_t(geo.face_vertex_offset[f1]);
+    rows(vertices, v0, v1, as_doubles<3>(geo.vertices), 3);
+    rows(face_vertices, k0, k1, geo.face_vertices.data(), 1);
+    rows(volume, b0, b1, geo.volume.data(), 1);
+    rows(centroid, b0, b1, as_doubles<3>(geo.centroid), 3);
+    rows(inertia, b0, b1, as_doubles<6>(geo.inertia), 6);
+    rows(face_area, f0, f1, geo.face_area.data(), 1);
+    rows(fraction, f0, f1, geo.face_joint_fraction.data(), 1);
+    if (run_read) run_read(b0, b1, f0);
+    f0 = f1;
+  }
 }
 
 }  // namespace slice::h5file

@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "../prefetch.hpp"
 #include "../threads.hpp"
 #include "bodies.hpp"
 #include "reach.hpp"
@@ -964,6 +965,7 @@ class Cutter {
                         LpCounts& mine = lps.local();
                         std::vector<Face> core;
                         for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          prefetch_faces_ahead(blocks_, i);
                           Block& b = blocks_[i];
                           const ChebyshevBall c = chebyshev_ball(solver, b.faces, ctx_.tol);
                           ++mine.chebyshev;
@@ -1125,6 +1127,7 @@ PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& prog
           PruneStats& mine = partial.local();
           for (std::size_t i = range.begin(); i != range.end(); ++i) {
             try {
+              prefetch_faces_ahead(bs.blocks, i);
               auto& faces = bs.blocks[i].faces;
               mine.faces_before += faces.size();
               // Against the faces kept so far: of two identical faces, one stays.
