@@ -185,7 +185,8 @@ class SphereGroup {
     // ... and as far from the polygon's centre, plus its radius; its box is inside this one.
     if (!pj.edges.empty()) {
       const Vec3 out = ((pj.centre - c).cwiseAbs() - h).cwiseMax(0.0);
-      if (out.norm() > pj.radius + slack) return false;
+      const double reach = pj.radius + slack;  // squared: no square root to wait for
+      if (out.squaredNorm() > reach * reach) return false;
       if ((pj.lo.array() > hi_.array() + slack).any() ||
           (pj.hi.array() < lo_.array() - slack).any())
         return false;
