@@ -856,7 +856,10 @@ class Cutter {
     {
       Referee& referee = referees_.local();
       while (k < task.joints.size()) {
-        if (k + 1 < task.joints.size()) prefetch_joint(task.joints[k + 1]);
+        // Two joints ahead the prepared polygon, one ahead its corners and edges (heap arrays
+        // of their own, found through the polygon loaded the turn before).
+        if (k + 2 < task.joints.size()) prefetch_joint(task.joints[k + 2]);
+        if (k + 1 < task.joints.size()) prefetch_polygon(task.joints[k + 1]);
         task.sub.cut_by(task.joints[k++], referee);
         if (opt_.tasks > 0 && task.sub.blocks.size() >= split_at && k < task.joints.size()) break;
       }
@@ -888,6 +891,16 @@ class Cutter {
     prefetch(p + 64);
     prefetch(p + sizeof(PreparedJoint) - 1);
     prefetch(&js_.joints[j].kind);
+  }
+
+  void prefetch_polygon(std::size_t j) const {
+    const PreparedJoint& pj = prepared_[j];
+    for (const auto* v :
+         {static_cast<const void*>(pj.corners.data()), static_cast<const void*>(pj.edges.data())}) {
+      if (!v) continue;
+      prefetch(v);
+      prefetch(static_cast<const char*>(v) + 64);
+    }
   }
 
   void hand_out(Task& task, std::size_t k) {
