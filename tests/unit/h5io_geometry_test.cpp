@@ -8,6 +8,7 @@
 #include <string>
 
 #include "io/file_common.hpp"
+#include "io/geometry_check.hpp"
 #include "io/h5/h5.hpp"
 #include "slice/cut.hpp"
 #include "slice/error.hpp"
@@ -356,4 +357,34 @@ TEST_CASE("the reader checks /geometry run by run as it reads and decides as a w
       CHECK_THAT(msg, Contains("/geometry/volume row " + std::to_string(spoiled) + " is 2"));
     }
   }
+}
+
+TEST_CASE("the value checks take each face's tolerance from its edges' lengths",
+          "[h5io][geometry]") {
+  // A unit cube turned 45 degrees about z: the edges of its side faces are not along the axes
+  // (the check's first, cheaper pass takes an edge's largest component for its length).
+  slice::BlockSystem bs;
+  bs.joints = sample().joints;
+  bs.pruned = true;
+  slice::Block b;
+  const double c = std::sqrt(0.5);
+  for (const slice::Vec3& n : {slice::Vec3(c, c, 0), slice::Vec3(-c, c, 0), slice::Vec3(-c, -c, 0),
+                               slice::Vec3(c, -c, 0), slice::Vec3(0, 0, 1), slice::Vec3(0, 0, -1)})
+    b.faces.push_back({n, 0.5, -1});
+  b.inradius = 0.5;
+  b.bsphere << 0, 0, 0, std::sqrt(0.75);
+  bs.blocks.push_back(b);
+  slice::compute_geometry(bs);
+  slice::Geometry g = *bs.geometry;
+  const double tol = 1e-3;
+  REQUIRE(slice::geometry_value_problem(g, b, 0, 0, {}, tol, false).empty());
+  // Face 0's perimeter is 4; its edges' largest components sum to 2 + sqrt(2) = 3.41.
+  const double area = g.face_area[0];
+  g.face_area[0] = area + 3.8 * tol;  // within tol x perimeter
+  CHECK(slice::geometry_value_problem(g, b, 0, 0, {}, tol, false).empty());
+  g.face_area[0] = area - 3.8 * tol;
+  CHECK(slice::geometry_value_problem(g, b, 0, 0, {}, tol, false).empty());
+  g.face_area[0] = area + 4.2 * tol;  // beyond it
+  CHECK_THAT(slice::geometry_value_problem(g, b, 0, 0, {}, tol, false),
+             Contains("/geometry/face_area row 0 is") && Contains("(tolerance 0.004)"));
 }

@@ -90,6 +90,12 @@ void check_blocks(const Checker& c, const BlockSystem& bs, bool with_geometry = 
   check_runs(bs.blocks, [&](std::size_t lo, std::size_t hi, std::size_t face_row) {
     for (std::size_t b = lo; b < hi; ++b) {
       prefetch_faces_ahead(bs.blocks, b);
+      // The planes of the joints of block b + 2 (whose faces came in two blocks ago): the
+      // joints of neighbouring blocks are far apart in the joints' order.
+      if (b + 2 < hi)
+        for (const Face& f : bs.blocks[b + 2].faces)
+          if (f.joint >= 0 && std::size_t(f.joint) < planes.size())
+            prefetch(&planes[std::size_t(f.joint)]);
       check_block(c, bs, planes, section, b, face_row);
     }
   });

@@ -38,11 +38,16 @@ bool repeats(const std::vector<std::int64_t>& fv, std::size_t lo, std::size_t hi
   return false;
 }
 
-}  // namespace
+// An edge's length for the tolerances of areas, which grow with the perimeter: `exact`, the
+// length; otherwise its largest component, no more than the length as computed (sqrt(fl(x^2)) is
+// |x|, and rounding keeps sums in order), and no square root to wait for. A check that passes with
+// it passes with the length.
+double edge_length(const Vec3& e, bool exact) { return exact ? e.norm() : e.cwiseAbs().maxCoeff(); }
 
-std::string geometry_value_problem(const Geometry& g, const Block& blk, std::size_t b,
-                                   std::size_t face_row, const GeometryBase& base, double tol,
-                                   bool section) {
+// geometry_value_problem; `exact` false: perimeters from edge_length's lower bounds, and a check
+// they fail is made again with the lengths (problem(..., true)), which decides and words it.
+std::string problem(const Geometry& g, const Block& blk, std::size_t b, std::size_t face_row,
+                    const GeometryBase& base, double tol, bool section, bool exact) {
   // Labels are made only for a message: this runs on every block of million-block files.
   const auto block = [&] { return "block " + std::to_string(base.block + b); };
   const auto v0 = static_cast<std::size_t>(g.vertex_offset[b]);
@@ -51,14 +56,15 @@ std::string geometry_value_problem(const Geometry& g, const Block& blk, std::siz
   const auto x = [&](std::int64_t local) -> Vec3 {
     return g.vertices[v0 + std::size_t(local)] - blk.origin;
   };
-  double reach = 0;  // the farthest vertex from the origin
+  double reach2 = 0;  // the farthest vertex from the origin, squared
   for (std::size_t v = v0; v < v1; ++v) {
     if (section && std::abs(g.vertices[v].y()) > tol)
       return "/geometry/vertices row " + std::to_string(std::size_t(base.vertex) + v) +
              " has y = " + g6(g.vertices[v].y()) +
              "; a 2-D file (root attribute dimension 2) has y = 0 everywhere";
-    reach = std::max(reach, (g.vertices[v] - blk.origin).norm());
+    reach2 = std::max(reach2, (g.vertices[v] - blk.origin).squaredNorm());
   }
+  const double reach = std::sqrt(reach2);  // the largest norm: the square root is monotonic
 
   // Per face: the loop's area vector s (3-D: half of Newell's vector; 2-D: the edge turned
   // outward, y x e, its length the edge's), whose component along the outward normal is the
@@ -91,7 +97,7 @@ std::string geometry_value_problem(const Geometry& g, const Block& blk, std::siz
     if (section) {
       const Vec3 e = x(g.face_vertices[lo + 1]) - a;
       s = {e.z(), 0, -e.x()};
-      perimeter = e.norm();
+      perimeter = edge_length(e, exact);
       const double c = a.dot(s);
       enclosed += c / 2;
       moment += c / 6 * (a + a + e);
@@ -101,7 +107,7 @@ std::string geometry_value_problem(const Geometry& g, const Block& blk, std::siz
       for (std::size_t k = lo; k < hi; ++k) {
         const Vec3 p = x(g.face_vertices[k]), q = x(g.face_vertices[k + 1 < hi ? k + 1 : lo]);
         s += p.cross(q) / 2;
-        perimeter += (q - p).norm();
+        perimeter += edge_length(q - p, exact);
         if (k > lo && k + 1 < hi) {
           const double d = a.dot(p.cross(q));
           enclosed += d / 6;
@@ -114,6 +120,8 @@ std::string geometry_value_problem(const Geometry& g, const Block& blk, std::siz
     const double area = blk.faces[f].normal.dot(s);
     // A vertex may lie `tol` off its place: an area moves by up to tol x perimeter.
     const double area_tol = tol * perimeter;
+    if (!exact && (area < -area_tol || std::abs(area - g.face_area[face]) > area_tol))
+      return problem(g, blk, b, face_row, base, tol, section, true);
     if (area < -area_tol)
       return loop() + " runs clockwise seen from outside (its area " + g6(area) +
              " is negative about the face normal); a loop runs counter-clockwise, right-handed "
@@ -127,6 +135,8 @@ std::string geometry_value_problem(const Geometry& g, const Block& blk, std::siz
     perimeter_sum += perimeter;
   }
   // A closed surface's area vectors sum to zero: a missing or extra loop shows here.
+  if (!exact && closure.norm() > 2 * tol * perimeter_sum)
+    return problem(g, blk, b, face_row, base, tol, section, true);
   if (closure.norm() > 2 * tol * perimeter_sum)
     return "the loops of " + block() + " do not close: their area vectors sum to " + g6(closure) +
            " (tolerance " + g6(2 * tol * perimeter_sum) + "); each face's loop must bound it";
@@ -178,6 +188,14 @@ std::string geometry_value_problem(const Geometry& g, const Block& blk, std::siz
                " (tolerance " + g6(inertia_tol) + ")";
   }
   return {};
+}
+
+}  // namespace
+
+std::string geometry_value_problem(const Geometry& g, const Block& blk, std::size_t b,
+                                   std::size_t face_row, const GeometryBase& base, double tol,
+                                   bool section) {
+  return problem(g, blk, b, face_row, base, tol, section, false);
 }
 
 }  // namespace slice
