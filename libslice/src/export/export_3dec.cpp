@@ -38,6 +38,7 @@ class TextOut {
     if (!f_)
       throw Error(name_, std::string("cannot be written (") + std::strerror(errno) + ")",
                   "check that the directory is writable");
+    settle_truncation(part_.path());
     buf_.reserve(kFlush + 4096);
   }
   ~TextOut() {

@@ -181,6 +181,7 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
       throw Error(out.string(),
                   "cannot create " + part.path().filename().string() + system_reason(),
                   "check that the directory is writable");
+    settle_truncation(part.path());
     s << "# rockslice " << version() << ": a YADE model of " << st.bodies << " blocks ("
       << (pb ? "PotentialBlock" : "Polyhedra") << " bodies), " << st.fixed << " fixed, "
       << st.clumps << " clumps.\n"

@@ -12,6 +12,7 @@
 
 #include "../threads.hpp"
 #include "slice/error.hpp"
+#include "slice/output.hpp"
 
 namespace slice::vtu {
 namespace {
@@ -62,6 +63,7 @@ File::File(const std::filesystem::path& path, std::string what, VtuCompressor co
   if (!f_)
     throw Error(what_, std::string("cannot be written (") + std::strerror(errno) + ")",
                 "check that the directory is writable");
+  settle_truncation(path);
   std::setvbuf(f_, nullptr, _IOFBF, 1 << 20);
 }
 

@@ -86,6 +86,15 @@ int create_locked(const fs::path& path, const fs::path& dir) {
   return -1;
 }
 
+}  // namespace
+
+void settle_truncation(const fs::path& path) noexcept {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+  if (fd >= 0) ::close(fd);
+}
+
+namespace {
+
 void rename_onto(const fs::path& partial, const fs::path& out) {
   std::error_code ec;
   fs::rename(partial, out, ec);

@@ -11,6 +11,7 @@
 #include "checked_driver.hpp"
 #include "slice/error.hpp"
 #include "slice/h5io.hpp"
+#include "slice/output.hpp"
 
 namespace slice::h5 {
 
@@ -644,6 +645,7 @@ File File::create(const fs::path& path, Context ctx) {
   check(H5Pset_obj_track_times(fcpl.id(), false), ctx, what);
   Handle f = own(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.id(), H5P_DEFAULT), Handle::Type::file,
                  ctx, what);
+  settle_truncation(path);
   Handle root = own(H5Gopen2(f.id(), "/", H5P_DEFAULT), Handle::Type::group, ctx, what);
   return File(std::move(f), Group(std::move(root), "/", std::move(ctx)));
 }
