@@ -70,9 +70,12 @@ std::string problem(const Geometry& g, const Block& blk, std::size_t b, std::siz
   // outward, y x e, its length the edge's), whose component along the outward normal is the
   // face's signed area; and the cone from the origin over the loop, for volume and centroid
   // (3-D: tetrahedra D = x0 . (xk x xk+1) = 6 V; 2-D: triangles c = x0 . s = 2 A).
+  // Summed with the weights c (2-D) or D (3-D) and divided once at the end (no division per
+  // triangle or tetrahedron): the volume (c / 2, D / 6), its moment (c / 6, D / 24) and the second
+  // moments about the origin, the integral of r r^T (c / 24, D / 120), in Inertia's order xx yy zz
+  // xy yz zx. The check's tolerances are far above the roundings this moves.
   double enclosed = 0, area_sum = 0, perimeter_sum = 0;
   Vec3 moment = Vec3::Zero(), closure = Vec3::Zero();
-  // Second moments about the origin, the integral of r r^T: xx yy zz xy yz zx (Inertia's order).
   Inertia second{};
   const auto add = [&](double w, const Vec3& r) {
     second[0] += w * r.x() * r.x(), second[1] += w * r.y() * r.y();
@@ -99,10 +102,10 @@ std::string problem(const Geometry& g, const Block& blk, std::size_t b, std::siz
       s = {e.z(), 0, -e.x()};
       perimeter = edge_length(e, exact);
       const double c = a.dot(s);
-      enclosed += c / 2;
-      moment += c / 6 * (a + a + e);
+      enclosed += c;
+      moment += c * (a + a + e);
       // A triangle (0, a, b) of area A: integral r r^T = A / 12 (a a^T + b b^T + s s^T).
-      for (const Vec3& r : {a, Vec3(a + e), Vec3(a + a + e)}) add(c / 24, r);
+      for (const Vec3& r : {a, Vec3(a + e), Vec3(a + a + e)}) add(c, r);
     } else {
       for (std::size_t k = lo; k < hi; ++k) {
         const Vec3 p = x(g.face_vertices[k]), q = x(g.face_vertices[k + 1 < hi ? k + 1 : lo]);
@@ -110,10 +113,10 @@ std::string problem(const Geometry& g, const Block& blk, std::size_t b, std::siz
         perimeter += edge_length(q - p, exact);
         if (k > lo && k + 1 < hi) {
           const double d = a.dot(p.cross(q));
-          enclosed += d / 6;
-          moment += d / 24 * (a + p + q);
+          enclosed += d;
+          moment += d * (a + p + q);
           // A tetrahedron (0, a, p, q): integral r r^T = D / 120 (a a^T + ... + s s^T).
-          for (const Vec3& r : {a, p, q, Vec3(a + p + q)}) add(d / 120, r);
+          for (const Vec3& r : {a, p, q, Vec3(a + p + q)}) add(d, r);
         }
       }
     }
@@ -134,6 +137,9 @@ std::string problem(const Geometry& g, const Block& blk, std::size_t b, std::siz
     area_sum += std::abs(area);
     perimeter_sum += perimeter;
   }
+  enclosed /= section ? 2 : 6;
+  moment /= section ? 6 : 24;
+  for (double& v : second) v /= section ? 24 : 120;
   // A closed surface's area vectors sum to zero: a missing or extra loop shows here.
   if (!exact && closure.norm() > 2 * tol * perimeter_sum)
     return problem(g, blk, b, face_row, base, tol, section, true);
