@@ -184,7 +184,6 @@ class Subdivision {
     std::vector<std::uint8_t>().swap(mask_);
     std::vector<Vec3>().swap(corners_);
     clip_ = ClipScratch();
-    below_ = Block();
   }
   /// Frees the blocks (handed to child tasks) and the index; size() keeps their number.
   void release() {
@@ -334,7 +333,6 @@ class Subdivision {
   std::vector<std::uint8_t> mask_;
 
   std::vector<Face> child_faces_;  // early_limits' scratch
-  Block below_;                    // split's scratch: the piece below
   std::vector<Vec3> corners_;      // a joint's corners in a block's frame
   ClipScratch clip_;
 
@@ -446,6 +444,15 @@ class Subdivision {
            min_d - limit_margin(referee, min_d) - ctx_.tol.geometry;
   }
 
+  /// A copy of block b with room for one more face, and no more (Block's copy assignment keeps
+  /// the room: a vector's copy keeps its storage when the copy fits).
+  static Block piece(const Block& b) {
+    Block p;
+    p.faces.reserve(b.faces.size() + 1);
+    p = b;
+    return p;
+  }
+
   /// Splits block i by the plane of joint j (block frame). False if undone.
   bool split(std::size_t i, std::size_t j, const Plane& plane, Referee& referee) {
     const Joint& joint = ctx_.js.joints[j];
@@ -458,9 +465,10 @@ class Subdivision {
       ++splits_undone;
       return false;
     }
-    below_ = blocks[i];  // n . x <= d (a copy into the last split block's storage)
-    Block& below = below_;
-    Block above = blocks[i];  // -n . x <= -d
+    // n . x <= d and -n . x <= -d: each piece's faces in an array of exactly their count (a copy
+    // and a push_back would double it; the faces took 2.2 times their bytes at 980,152 blocks).
+    Block below = piece(blocks[i]);
+    Block above = piece(blocks[i]);
     below.faces.push_back({plane.normal, plane.d, std::int64_t(j)});
     above.faces.push_back({-plane.normal, -plane.d, std::int64_t(j)});
     LpSolver& solver = referee.solver();
@@ -482,7 +490,7 @@ class Subdivision {
       (joint.boundary_side > 0 ? above : below).flags |= kBoundary;
     }
     ++splits;
-    std::swap(blocks[i], below);  // below_ keeps the split block's storage, for the next split
+    blocks[i] = std::move(below);
     blocks.push_back(std::move(above));
     extremes[i] = ext_below;
     extremes.push_back(ext_above);
