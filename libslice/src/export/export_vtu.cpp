@@ -3,6 +3,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
@@ -86,7 +87,7 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
   // The kept blocks, their first face row, and the sizes and ranges the header states.
   std::vector<std::size_t> kept, face_row;
   std::size_t points = 0, conn = 0, stream_len = 0, row = 0;
-  Range r_id, r_volume, r_inradius, r_cluster, r_boundary, r_fixed, r_aspect, r_points;
+  Range r_id, r_volume, r_inradius, r_cluster, r_boundary, r_fixed, r_aspect, r_points2;
   const auto aspect = [](const Block& b) {
     return b.inradius > 0 ? b.bsphere[3] / b.inradius : 0.0;
   };
@@ -113,9 +114,13 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
     r_fixed.add(is_fixed(blk) ? 1 : 0);
     r_aspect.add(aspect(blk));
     for (auto v = g.vertex_offset[b]; v < g.vertex_offset[b + 1]; ++v)
-      r_points.add(g.vertices[std::size_t(v)].norm());
+      r_points2.add(g.vertices[std::size_t(v)].squaredNorm());
   }
   const std::size_t cells = kept.size();
+  // The points' magnitudes: the roots of the extreme squares (the root is monotonic: the same
+  // numbers as the extremes of the roots, one root each instead of one per point).
+  Range r_points;
+  if (r_points2.lo <= r_points2.hi) r_points = {std::sqrt(r_points2.lo), std::sqrt(r_points2.hi)};
 
   PartialFile part(out);
   vtu::File f(part.path(), out.string(), compressor);
