@@ -64,7 +64,9 @@ File::File(const std::filesystem::path& path, std::string what, VtuCompressor co
     throw Error(what_, std::string("cannot be written (") + std::strerror(errno) + ")",
                 "check that the directory is writable");
   settle_truncation(path);
-  std::setvbuf(f_, nullptr, _IOFBF, 1 << 20);
+  constexpr std::size_t kFileBuffer = std::size_t(1) << 20;
+  buffer_ = std::make_unique<char[]>(kFileBuffer);
+  std::setvbuf(f_, buffer_.get(), _IOFBF, kFileBuffer);
 }
 
 File::~File() {
@@ -79,11 +81,18 @@ void File::write(const void* data, std::size_t bytes) {
 }
 
 void File::seek_write(std::int64_t at, const void* data, std::size_t bytes) {
-  if (fseeko(f_, off_t(at), SEEK_SET) != 0)
-    throw Error(what_, "could not be written (seek failed)", "check that the disk is not full");
+  // A seek writes out the buffer first: its failure is a failed write (errno says why).
+  const auto seek = [&](off_t to, int whence) {
+    errno = 0;
+    if (fseeko(f_, to, whence) != 0)
+      throw Error(what_,
+                  std::string("could not be written (") +
+                      (errno ? std::strerror(errno) : "seek failed") + ")",
+                  "check that the disk is not full");
+  };
+  seek(off_t(at), SEEK_SET);
   write(data, bytes);
-  if (fseeko(f_, 0, SEEK_END) != 0)
-    throw Error(what_, "could not be written (seek failed)", "check that the disk is not full");
+  seek(0, SEEK_END);
 }
 
 void File::header(std::size_t points, std::size_t cells, const std::vector<Section>& sections,
