@@ -850,11 +850,6 @@ class Cutter {
     group.wait();
   }
 
-  /// Hands the task's blocks, in kGroups groups of neighbours (Morton order of their spheres'
-  /// centres), to as many child tasks, each with those of joints [k, ...) that may reach one of
-  /// its blocks: every joint without the index, and every persistent boundary joint (it also
-  /// flags blocks it does not reach). Later pieces of a block lie inside its box, so no other
-  /// joint can cut them.
   /// Starts loading what the reach tests read of joint j: the task's joints are in no order,
   /// and their prepared polygons (about 160 bytes each) fill more than the cache.
   static constexpr std::size_t kPrefetchJoints = 6;
@@ -866,6 +861,8 @@ class Cutter {
     prefetch(&js_.joints[j].kind);
   }
 
+  /// The same for its corners and edges (heap arrays of their own, found through the prepared
+  /// polygon: best loaded a turn before, by prefetch_joint).
   void prefetch_polygon(std::size_t j) const {
     const PreparedJoint& pj = prepared_[j];
     for (const auto* v :
@@ -876,6 +873,11 @@ class Cutter {
     }
   }
 
+  /// Hands the task's blocks, in kGroups groups of neighbours (Morton order of their spheres'
+  /// centres), to as many child tasks, each with those of joints [k, ...) that may reach one of
+  /// its blocks: every joint without the index, and every persistent boundary joint (it also
+  /// flags blocks it does not reach). Later pieces of a block lie inside its box, so no other
+  /// joint can cut them.
   void hand_out(Task& task, std::size_t k) {
     Subdivision& sub = task.sub;
     const std::size_t n = sub.blocks.size();
