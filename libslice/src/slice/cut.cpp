@@ -146,7 +146,6 @@ class Subdivision {
     spheres_ = SphereList();
     std::vector<std::uint32_t>().swap(stamp_);
     std::vector<std::size_t>().swap(candidates_);
-    std::vector<std::uint8_t>().swap(mask_);
     std::vector<Vec3>().swap(corners_);
     clip_ = ClipScratch();
   }
@@ -295,7 +294,6 @@ class Subdivision {
   std::size_t grid_built_for_ = 0;
   std::vector<std::uint32_t> stamp_;  // last joint (+1) that visited a block in the grid
   std::vector<std::size_t> candidates_;
-  std::vector<std::uint8_t> mask_;
 
   std::vector<Face> child_faces_;  // early_limits' scratch
   std::vector<Vec3> corners_;      // a joint's corners in a block's frame
@@ -348,7 +346,7 @@ class Subdivision {
       return;
     }
     if (blocks.size() <= kScanMax) {
-      spheres_.reached(pj, ctx_.tol.cut, candidates_, mask_);
+      spheres_.reached(ReachQuery(pj, ctx_.tol.cut), candidates_);
       return;
     }
     if (blocks.size() >= 2 * grid_built_for_) rebuild_grid();
@@ -909,7 +907,6 @@ class Cutter {
     tbb::this_task_arena::isolate([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, reached.size(), 1024),
                         [&](const tbb::blocked_range<std::size_t>& range) {
-                          std::vector<std::uint8_t> mask;
                           for (std::size_t m = range.begin(); m != range.end(); ++m) {
                             if (m + kPrefetchJoints < range.end())
                               prefetch_joint(task.joints[k + m + kPrefetchJoints]);
@@ -918,8 +915,9 @@ class Cutter {
                             const bool all =
                                 !opt_.use_index ||
                                 (joint.kind == JointKind::boundary && joint.persistent());
+                            const ReachQuery q(prepared_[j], ctx_.tol.cut);
                             for (std::size_t g = 0; g < groups; ++g)
-                              if (all || spheres[g].may_reach(prepared_[j], ctx_.tol.cut, mask))
+                              if (all || spheres[g].may_reach(prepared_[j], q))
                                 reached[m] |= std::uint8_t(1u << g);
                           }
                         });

@@ -7,8 +7,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
+#include <cstddef>
 #include <span>
 #include <vector>
 
@@ -72,8 +71,8 @@ struct ReachQuery {
   bool polygon;
 
   /// The plane passes within r + tol of the centre (x, y, z) and, for a polygon, the polygon's
-  /// sphere and box overlap the sphere (r) and its box by tol. Branch-free: the same arithmetic
-  /// as reach_mask.
+  /// sphere and box overlap the sphere (r) and its box by tol. reach_any and reach_list do the
+  /// same arithmetic, four spheres at a time.
   bool operator()(double x, double y, double z, double r) const {
     const bool plane = std::abs(a * x + b * y + c * z - d) < r + tol;
     if (!polygon) return plane;
@@ -83,9 +82,22 @@ struct ReachQuery {
   }
 };
 
-/// mask[i] = q(x[i], y[i], z[i], r[i]) for i < n (vectorised; AVX2 where the CPU has it).
-void reach_mask(const ReachQuery& q, const double* x, const double* y, const double* z,
-                const double* r, std::size_t n, std::uint8_t* mask);
+/// n spheres, one array per coordinate: sphere i has centre (x[i], y[i], z[i]) and radius r[i].
+struct SphereArrays {
+  const double *x, *y, *z, *r;
+  std::size_t n;
+};
+
+/// Whether q holds for one of the spheres. `vector`: four spheres at a time where the CPU has
+/// AVX2 (reach_vectorised), the same answers as q one sphere at a time; false: one at a time.
+bool reach_any(const ReachQuery& q, const SphereArrays& s, bool vector = true);
+
+/// Appends to `out` every i for which q holds for sphere i, increasing (as reach_any).
+void reach_list(const ReachQuery& q, const SphereArrays& s, std::vector<std::size_t>& out,
+                bool vector = true);
+
+/// Whether reach_any and reach_list test four spheres at a time on this CPU.
+bool reach_vectorised();
 
 /// Could the joint reach the sphere of centre (x, y, z) and radius r (ReachQuery)?
 inline bool may_reach(const PreparedJoint& pj, double x, double y, double z, double r, double tol) {
@@ -119,44 +131,17 @@ class SphereList {
     r_[i] = s[3];
   }
 
-  /// Appends the numbers of the spheres the joint may reach (may_reach), increasing.
-  void reached(const PreparedJoint& pj, double tol, std::vector<std::size_t>& out,
-               std::vector<std::uint8_t>& mask) const {
-    const std::size_t n = size();
-    mask.resize(n);
-    reach_mask(ReachQuery(pj, tol), x_.data(), y_.data(), z_.data(), r_.data(), n, mask.data());
-    // Eight mask bytes at a time: most are 0 (a joint reaches few of a task's blocks).
-    std::size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-      std::uint64_t word;
-      std::memcpy(&word, mask.data() + i, sizeof word);
-      if (!word) continue;
-      for (std::size_t k = i; k < i + 8; ++k)
-        if (mask[k]) out.push_back(k);
-    }
-    for (; i < n; ++i)
-      if (mask[i]) out.push_back(i);
+  /// Appends the numbers of the spheres the joint may reach (q: may_reach's), increasing.
+  void reached(const ReachQuery& q, std::vector<std::size_t>& out) const {
+    reach_list(q, arrays(), out);
   }
 
-  /// Whether the joint may reach any of the spheres: kChunk spheres at a time, up to the first
-  /// chunk that holds one.
-  bool any_reached(const PreparedJoint& pj, double tol, std::vector<std::uint8_t>& mask) const {
-    constexpr std::size_t kChunk = 32;
-    const std::size_t n = size();
-    const ReachQuery q(pj, tol);
-    mask.resize(kChunk);
-    for (std::size_t begin = 0; begin < n; begin += kChunk) {
-      const std::size_t len = std::min(kChunk, n - begin);
-      reach_mask(q, x_.data() + begin, y_.data() + begin, z_.data() + begin, r_.data() + begin, len,
-                 mask.data());
-      const auto end = mask.begin() + std::ptrdiff_t(len);
-      if (std::find(mask.begin(), end, std::uint8_t(1)) != end) return true;
-    }
-    return false;
-  }
+  /// Whether the joint may reach any of the spheres (q: may_reach's).
+  bool any_reached(const ReachQuery& q) const { return reach_any(q, arrays()); }
 
  private:
   std::vector<double> x_, y_, z_, r_;
+  SphereArrays arrays() const { return {x_.data(), y_.data(), z_.data(), r_.data(), size()}; }
 };
 
 /// Spheres and a box that holds them all: the box rules a joint out for all of them at once.
@@ -174,9 +159,11 @@ class SphereGroup {
   const Vec3& lo() const { return lo_; }
   const Vec3& hi() const { return hi_; }
 
-  /// Whether may_reach holds for one of the spheres. The box tests are looser than may_reach
-  /// (by far more than their rounding), so they rule out only joints it would.
-  bool may_reach(const PreparedJoint& pj, double tol, std::vector<std::uint8_t>& mask) const {
+  /// Whether may_reach holds for one of the spheres (q: may_reach's for the joint and tol). The
+  /// box tests are looser than may_reach (by far more than their rounding), so they rule out only
+  /// joints it would.
+  bool may_reach(const PreparedJoint& pj, const ReachQuery& q) const {
+    const double tol = q.tol;
     if (spheres_.size() == 0) return false;
     const Vec3 &c = c_, &h = h_;
     const double slack = tol + 1e-9 * (extent_ + std::abs(pj.plane.d));
@@ -191,7 +178,7 @@ class SphereGroup {
           (pj.hi.array() < lo_.array() - slack).any())
         return false;
     }
-    return spheres_.any_reached(pj, tol, mask);
+    return spheres_.any_reached(q);
   }
 
  private:
