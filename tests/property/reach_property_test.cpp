@@ -154,3 +154,50 @@ TEST_CASE("reach_list finds every sphere a joint reaches among spheres it all re
     CHECK(check_all_ways(q, miss, "all miss") == 0);
   }
 }
+
+TEST_CASE("GroupBoxes rules out only groups none of whose spheres the joint may reach", "[reach]") {
+  std::mt19937_64 rng(kSeed + 1);
+  std::uniform_real_distribution<double> u(0, 1);
+  const long cases = test::scaled_cases(20000, 100);
+  long ruled_out = 0, groups = 0;
+  for (long k = 0; k < cases; ++k) {
+    const double scale = std::pow(10.0, -3 + 6 * u(rng));
+    const Vec3 offset = (k % 4 == 0 ? 1e6 : 0.0) * Vec3(-1, 0.5, 1);
+    const bool persistent = k % 5 == 0;
+    const PreparedJoint pj = square_joint(unit(rng), offset + scale * Vec3(u(rng), u(rng), u(rng)),
+                                          scale * (0.05 + 0.3 * u(rng)), persistent);
+    const double tol = scale * 1e-9;
+    const ReachQuery q(pj, tol);
+    // Up to eight groups of up to 12 spheres, each group about a random point; some empty.
+    slice::GroupBoxes boxes;
+    std::vector<bool> reached(slice::GroupBoxes::kMax, false);
+    for (std::size_t g = 0; g < slice::GroupBoxes::kMax; ++g) {
+      slice::SphereGroup group;
+      const Vec3 at = offset + scale * Vec3(u(rng), u(rng), u(rng));
+      const auto n = static_cast<std::size_t>(u(rng) * 13);
+      for (std::size_t i = 0; i < n; ++i) {
+        const Vec3 c = at + scale * 0.2 * Vec3(u(rng), u(rng), u(rng));
+        // Now and then a sphere that just touches the joint's plane, within its tolerance.
+        const double r = i == 0 && k % 3 == 0
+                             ? std::abs(q.a * c.x() + q.b * c.y() + q.c * c.z() - q.d) - 0.5 * tol
+                             : scale * 0.1 * u(rng);
+        group.add(Eigen::Vector4d(c.x(), c.y(), c.z(), r));
+        reached[g] = reached[g] || q(c.x(), c.y(), c.z(), r);
+      }
+      boxes.set(g, group.lo(), group.hi());
+      REQUIRE(group.any_reached(q) == reached[g]);
+    }
+    const unsigned bits = boxes.may_reach(pj, tol);
+    INFO("case " << k << (persistent ? ", persistent" : ", square"));
+    REQUIRE(boxes.may_reach(pj, tol, false) == bits);  // the vector code's answer is the scalar's
+    for (std::size_t g = 0; g < slice::GroupBoxes::kMax; ++g) {
+      INFO("group " << g);
+      if (reached[g]) REQUIRE((bits >> g & 1u) == 1u);
+      ruled_out += reached[g] ? 0 : long(1 - (bits >> g & 1u));
+      groups += reached[g] ? 0 : 1;
+    }
+  }
+  // The boxes rule out many of the groups the joint does not reach (a test that says yes to
+  // everything would pass the requirement above).
+  CHECK(ruled_out > groups / 4);
+}

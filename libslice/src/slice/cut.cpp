@@ -895,8 +895,11 @@ class Cutter {
     std::vector<std::vector<std::size_t>> members(groups);
     for (std::size_t i = 0; i < n; ++i) members[group_of[i]].push_back(i);
     std::vector<SphereGroup> spheres(groups);
-    for (std::size_t g = 0; g < groups; ++g)
+    GroupBoxes boxes;
+    for (std::size_t g = 0; g < groups; ++g) {
       for (const std::size_t i : members[g]) spheres[g].add(sub.blocks[i].bsphere);
+      boxes.set(g, spheres[g].lo(), spheres[g].hi());
+    }
 
     // The joints of each group: the groups each joint may reach (bits), on every thread (the
     // root's hand-out tests all the joints).
@@ -905,22 +908,29 @@ class Cutter {
     // Isolated: a thread waiting here runs only these tests, not another task (whose children
     // would then wait for it).
     tbb::this_task_arena::isolate([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, reached.size(), 1024),
-                        [&](const tbb::blocked_range<std::size_t>& range) {
-                          for (std::size_t m = range.begin(); m != range.end(); ++m) {
-                            if (m + kPrefetchJoints < range.end())
-                              prefetch_joint(task.joints[k + m + kPrefetchJoints]);
-                            const std::size_t j = task.joints[k + m];
-                            const Joint& joint = js_.joints[j];
-                            const bool all =
-                                !opt_.use_index ||
-                                (joint.kind == JointKind::boundary && joint.persistent());
-                            const ReachQuery q(prepared_[j], ctx_.tol.cut);
-                            for (std::size_t g = 0; g < groups; ++g)
-                              if (all || spheres[g].may_reach(prepared_[j], q))
-                                reached[m] |= std::uint8_t(1u << g);
-                          }
-                        });
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, reached.size(), 1024),
+          [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t m = range.begin(); m != range.end(); ++m) {
+              if (m + kPrefetchJoints < range.end())
+                prefetch_joint(task.joints[k + m + kPrefetchJoints]);
+              const std::size_t j = task.joints[k + m];
+              const Joint& joint = js_.joints[j];
+              const bool all =
+                  !opt_.use_index || (joint.kind == JointKind::boundary && joint.persistent());
+              if (all) {
+                reached[m] = std::uint8_t((1u << groups) - 1);
+                continue;
+              }
+              // The groups' boxes first, then the spheres of those they pass.
+              const PreparedJoint& pj = prepared_[j];
+              const ReachQuery q(pj, ctx_.tol.cut);
+              for (unsigned bits = boxes.may_reach(pj, ctx_.tol.cut); bits; bits &= bits - 1) {
+                const auto g = std::size_t(std::countr_zero(bits));
+                if (spheres[g].any_reached(q)) reached[m] |= std::uint8_t(1u << g);
+              }
+            }
+          });
     });
     std::vector<std::vector<std::size_t>> lists(groups);
     for (std::size_t m = 0; m < reached.size(); ++m)

@@ -1,5 +1,9 @@
 #include "reach.hpp"
 
+#include <algorithm>
+
+#include "slice/error.hpp"
+
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define SLICE_REACH_AVX2 1
@@ -88,6 +92,133 @@ void reach_list(const ReachQuery& q, const SphereArrays& s, std::vector<std::siz
     out.push_back(i);
     return false;
   });
+}
+
+void GroupBoxes::set(std::size_t g, const Vec3& lo, const Vec3& hi) {
+  SLICE_ASSERT(g < kMax);
+  if (!(lo.array() <= hi.array()).all()) {
+    used_ &= ~(1u << g);
+    return;
+  }
+  used_ |= 1u << g;
+  const Vec3 c = 0.5 * (lo + hi), h = 0.5 * (hi - lo);
+  for (int k = 0; k < 3; ++k) {
+    c_[k][g] = c[k];
+    h_[k][g] = h[k];
+    lo_[k][g] = lo[k];
+    hi_[k][g] = hi[k];
+  }
+  extent_[g] = c.cwiseAbs().maxCoeff() + h.maxCoeff();
+}
+
+namespace {
+
+/// GroupBoxes::may_reach's question in plain numbers.
+struct BoxQuery {
+  BoxQuery(const PreparedJoint& pj, double tolerance)
+      : n{pj.plane.normal[0], pj.plane.normal[1], pj.plane.normal[2]},
+        d(pj.plane.d),
+        p{pj.centre[0], pj.centre[1], pj.centre[2]},
+        radius(pj.radius),
+        lo{pj.lo[0], pj.lo[1], pj.lo[2]},
+        hi{pj.hi[0], pj.hi[1], pj.hi[2]},
+        tol(tolerance),
+        polygon(!pj.edges.empty()) {}
+  double n[3], d, p[3], radius, lo[3], hi[3], tol;
+  bool polygon;
+};
+
+/// Whether the box (centre c, half sizes h, corners lo and hi, slack's extent e) may hold a
+/// sphere the joint reaches.
+bool box_may_reach(const BoxQuery& q, const double* c, const double* h, const double* lo,
+                   const double* hi, double e) {
+  const double slack = q.tol + 1e-9 * (e + std::abs(q.d));
+  // A sphere inside the box lies as far from the plane as the box, or farther ...
+  const double dist = q.n[0] * c[0] + q.n[1] * c[1] + q.n[2] * c[2] - q.d;
+  const double half = std::abs(q.n[0]) * h[0] + std::abs(q.n[1]) * h[1] + std::abs(q.n[2]) * h[2];
+  if (std::abs(dist) > half + slack) return false;
+  if (!q.polygon) return true;
+  // ... and as far from the polygon's centre, plus its radius; its box is inside this one.
+  double out2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double out = std::max(std::abs(q.p[k] - c[k]) - h[k], 0.0);
+    out2 += out * out;
+  }
+  const double reach = q.radius + slack;
+  if (out2 > reach * reach) return false;
+  for (int k = 0; k < 3; ++k)
+    if (q.lo[k] > hi[k] + slack || q.hi[k] < lo[k] - slack) return false;
+  return true;
+}
+
+#ifdef SLICE_REACH_AVX2
+// box_may_reach for four boxes at a time, the same arithmetic in the same order.
+__attribute__((target("avx2"))) unsigned boxes_avx2(const BoxQuery& q, const double (*c)[8],
+                                                    const double (*h)[8], const double (*lo)[8],
+                                                    const double (*hi)[8], const double* e) {
+  const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256d tol = _mm256_set1_pd(q.tol), d = _mm256_set1_pd(q.d);
+  const __m256d d_size = _mm256_set1_pd(std::abs(q.d)), scale = _mm256_set1_pd(1e-9);
+  const __m256d radius = _mm256_set1_pd(q.radius);
+  unsigned bits = 0;
+  for (int g = 0; g < 8; g += 4) {
+    const __m256d slack =
+        _mm256_add_pd(tol, _mm256_mul_pd(scale, _mm256_add_pd(_mm256_load_pd(e + g), d_size)));
+    __m256d dist = zero, half = zero;
+    for (int k = 0; k < 3; ++k) {
+      const __m256d n = _mm256_set1_pd(q.n[k]);
+      const __m256d nk = _mm256_and_pd(n, magnitude);
+      const __m256d ck = _mm256_load_pd(c[k] + g), hk = _mm256_load_pd(h[k] + g);
+      dist = k == 0 ? _mm256_mul_pd(n, ck) : _mm256_add_pd(dist, _mm256_mul_pd(n, ck));
+      half = k == 0 ? _mm256_mul_pd(nk, hk) : _mm256_add_pd(half, _mm256_mul_pd(nk, hk));
+    }
+    dist = _mm256_and_pd(_mm256_sub_pd(dist, d), magnitude);
+    // Not greater (unordered: true), as the scalar tests reject only what compares greater.
+    __m256d in = _mm256_cmp_pd(dist, _mm256_add_pd(half, slack), _CMP_NGT_UQ);
+    if (q.polygon) {
+      __m256d out2 = zero;
+      for (int k = 0; k < 3; ++k) {
+        const __m256d pk = _mm256_set1_pd(q.p[k]);
+        const __m256d ck = _mm256_load_pd(c[k] + g), hk = _mm256_load_pd(h[k] + g);
+        // max(0, x) keeps a NaN x, as std::max(x, 0.0) does.
+        const __m256d out =
+            _mm256_max_pd(zero, _mm256_sub_pd(_mm256_and_pd(_mm256_sub_pd(pk, ck), magnitude), hk));
+        out2 = k == 0 ? _mm256_mul_pd(out, out) : _mm256_add_pd(out2, _mm256_mul_pd(out, out));
+      }
+      const __m256d reach = _mm256_add_pd(radius, slack);
+      in = _mm256_and_pd(in, _mm256_cmp_pd(out2, _mm256_mul_pd(reach, reach), _CMP_NGT_UQ));
+      for (int k = 0; k < 3; ++k) {
+        const __m256d lok = _mm256_load_pd(lo[k] + g), hik = _mm256_load_pd(hi[k] + g);
+        in = _mm256_and_pd(
+            in, _mm256_cmp_pd(_mm256_set1_pd(q.lo[k]), _mm256_add_pd(hik, slack), _CMP_NGT_UQ));
+        in = _mm256_and_pd(
+            in, _mm256_cmp_pd(_mm256_set1_pd(q.hi[k]), _mm256_sub_pd(lok, slack), _CMP_NLT_UQ));
+      }
+    }
+    bits |= unsigned(_mm256_movemask_pd(in)) << g;
+  }
+  return bits;
+}
+#endif
+
+}  // namespace
+
+unsigned GroupBoxes::may_reach(const PreparedJoint& pj, double tol, bool vector) const {
+  const BoxQuery q(pj, tol);
+#ifdef SLICE_REACH_AVX2
+  if (vector && have_avx2()) return boxes_avx2(q, c_, h_, lo_, hi_, extent_) & used_;
+#endif
+  static_cast<void>(vector);
+  unsigned bits = 0;
+  for (std::size_t g = 0; g < kMax; ++g) {
+    if (!(used_ >> g & 1u)) continue;
+    const double c[3] = {c_[0][g], c_[1][g], c_[2][g]}, h[3] = {h_[0][g], h_[1][g], h_[2][g]};
+    const double lo[3] = {lo_[0][g], lo_[1][g], lo_[2][g]};
+    const double hi[3] = {hi_[0][g], hi_[1][g], hi_[2][g]};
+    if (box_may_reach(q, c, h, lo, hi, extent_[g])) bits |= 1u << g;
+  }
+  return bits;
 }
 
 bool reach_vectorised() {

@@ -144,7 +144,7 @@ class SphereList {
   SphereArrays arrays() const { return {x_.data(), y_.data(), z_.data(), r_.data(), size()}; }
 };
 
-/// Spheres and a box that holds them all: the box rules a joint out for all of them at once.
+/// Spheres and the box that holds them all (a child task's blocks in the cut's hand-out).
 class SphereGroup {
  public:
   void add(const Eigen::Vector4d& s) {
@@ -152,40 +152,37 @@ class SphereGroup {
     lo_ = lo_.cwiseMin(c - r);
     hi_ = hi_.cwiseMax(c + r);
     spheres_.push_back(s);
-    c_ = 0.5 * (lo_ + hi_);
-    h_ = 0.5 * (hi_ - lo_);
-    extent_ = c_.cwiseAbs().maxCoeff() + h_.maxCoeff();
   }
   const Vec3& lo() const { return lo_; }
   const Vec3& hi() const { return hi_; }
-
-  /// Whether may_reach holds for one of the spheres (q: may_reach's for the joint and tol). The
-  /// box tests are looser than may_reach (by far more than their rounding), so they rule out only
-  /// joints it would.
-  bool may_reach(const PreparedJoint& pj, const ReachQuery& q) const {
-    const double tol = q.tol;
-    if (spheres_.size() == 0) return false;
-    const Vec3 &c = c_, &h = h_;
-    const double slack = tol + 1e-9 * (extent_ + std::abs(pj.plane.d));
-    // A sphere inside the box lies as far from the plane as the box, or farther.
-    if (std::abs(pj.plane.distance(c)) > pj.plane.normal.cwiseAbs().dot(h) + slack) return false;
-    // ... and as far from the polygon's centre, plus its radius; its box is inside this one.
-    if (!pj.edges.empty()) {
-      const Vec3 out = ((pj.centre - c).cwiseAbs() - h).cwiseMax(0.0);
-      const double reach = pj.radius + slack;  // squared: no square root to wait for
-      if (out.squaredNorm() > reach * reach) return false;
-      if ((pj.lo.array() > hi_.array() + slack).any() ||
-          (pj.hi.array() < lo_.array() - slack).any())
-        return false;
-    }
-    return spheres_.any_reached(q);
-  }
+  bool empty() const { return spheres_.size() == 0; }
+  /// Whether the joint may reach one of the spheres (q: may_reach's).
+  bool any_reached(const ReachQuery& q) const { return spheres_.any_reached(q); }
 
  private:
   Vec3 lo_ = Vec3::Constant(INFINITY), hi_ = Vec3::Constant(-INFINITY);
-  Vec3 c_ = Vec3::Zero(), h_ = Vec3::Zero();  // the box's centre and half sizes
-  double extent_ = 0;                         // max |c_| + max h_, for the slack
   SphereList spheres_;
+};
+
+/// The boxes of up to kMax sphere groups, so that a joint is tested against all of them at once
+/// (four at a time where the CPU has AVX2) before any of their spheres.
+class GroupBoxes {
+ public:
+  static constexpr std::size_t kMax = 8;
+  /// Group g's box: the box of its spheres (none: lo > hi, and the group is never reached).
+  void set(std::size_t g, const Vec3& lo, const Vec3& hi);
+
+  /// Bit g set unless group g's box shows that no sphere inside it can pass may_reach (tol: its
+  /// tolerance): the plane passes the box farther than it reaches, or for a polygon, its sphere
+  /// or its box misses the box. Looser than may_reach by far more than the rounding (1e-9 of the
+  /// coordinates), so a group whose spheres pass is never ruled out. `vector`: as reach_any.
+  unsigned may_reach(const PreparedJoint& pj, double tol, bool vector = true) const;
+
+ private:
+  // By axis k and group g: the box's centre, half size and corners; the slack's extent.
+  alignas(32) double c_[3][kMax] = {}, h_[3][kMax] = {}, lo_[3][kMax] = {}, hi_[3][kMax] = {};
+  alignas(32) double extent_[kMax] = {};
+  unsigned used_ = 0;  // groups with a box
 };
 
 }  // namespace slice
