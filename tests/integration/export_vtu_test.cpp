@@ -1,5 +1,7 @@
 // slice-export --format vtu: the files read back with VTK's own XML reader give the blocks and
 // volumes of /geometry, and the joints clipped to the domain.
+#include "slice/export_vtu.hpp"
+
 #include <vtkCell.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -228,5 +230,45 @@ TEST_CASE("slice-export vtu: a model whose blocks are all removed gives an empty
     CHECK(grid->GetNumberOfCells() == 0);
     CHECK(grid->GetNumberOfPoints() == 0);
     CHECK(grid->GetCellData()->GetArray("volume") != nullptr);
+  }
+}
+
+TEST_CASE("blocks.vtu: Int32 cell arrays where they fit, read back as the Int64 ones",
+          "[export][vtu]") {
+  test::TempDir tmp;
+  const auto geom = test::run_pipeline(tmp, "rock-slope.toml", test::Stage::geometry);
+  const auto bs = slice::read_blocks(geom);
+  const std::string narrow = (tmp / "narrow.vtu").string(), wide = (tmp / "wide.vtu").string();
+  slice::write_blocks_vtu(narrow, bs);  // slice-export's choice
+  slice::write_blocks_vtu(wide, bs, slice::VtuCompressor::lz4, 0, slice::VtuIds::int64);
+  // The header names each array's type; the block ids and clusters are Int64 in both.
+  const auto header = [](const std::string& file) {
+    const std::string bytes = test::read_bytes(file);
+    return bytes.substr(0, bytes.find("<AppendedData"));
+  };
+  for (const std::string name : {"connectivity", "offsets", "faces", "faceoffsets"}) {
+    CAPTURE(name);
+    // The polyhedra's arrays say they hold ids (IdType="1").
+    const std::string id = name.starts_with("face") ? " IdType=\"1\"" : "";
+    CHECK_THAT(header(narrow), Contains("type=\"Int32\"" + id + " Name=\"" + name + "\""));
+    CHECK_THAT(header(wide), Contains("type=\"Int64\"" + id + " Name=\"" + name + "\""));
+  }
+  CHECK_THAT(header(narrow), Contains("type=\"Int64\" Name=\"block_id\""));
+  const auto a = read_vtu(narrow), b = read_vtu(wide);
+  REQUIRE(a->GetNumberOfCells() == b->GetNumberOfCells());
+  REQUIRE(a->GetNumberOfCells() > 10);
+  for (vtkIdType c = 0; c < a->GetNumberOfCells(); ++c) {
+    vtkCell* x = a->GetCell(c);
+    vtkCell* y = b->GetCell(c);
+    REQUIRE(x->GetNumberOfPoints() == y->GetNumberOfPoints());
+    REQUIRE(x->GetNumberOfFaces() == y->GetNumberOfFaces());
+    for (vtkIdType k = 0; k < x->GetNumberOfPoints(); ++k)
+      CHECK(x->GetPointId(k) == y->GetPointId(k));
+    for (int f = 0; f < x->GetNumberOfFaces(); ++f) {
+      REQUIRE(x->GetFace(f)->GetNumberOfPoints() == y->GetFace(f)->GetNumberOfPoints());
+      for (vtkIdType k = 0; k < x->GetFace(f)->GetNumberOfPoints(); ++k)
+        CHECK(x->GetFace(f)->GetPointId(k) == y->GetFace(f)->GetPointId(k));
+    }
+    CHECK(cell_volume(x) == cell_volume(y));
   }
 }

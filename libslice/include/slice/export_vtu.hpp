@@ -19,6 +19,11 @@ enum class VtuCompressor { lz4, zlib, none };
 /// "lz4", "zlib", "none"; anything else throws Error naming `option`.
 VtuCompressor parse_vtu_compressor(const std::string& text, const std::string& option);
 
+/// The type of a VTU's cell arrays (connectivity, offsets and the polyhedra's faces and
+/// faceoffsets): Int32 where every value fits (VTK reads either into its id type; half the
+/// bytes of Int64), or always Int64.
+enum class VtuIds { narrowest, int64 };
+
 struct VtuStats {
   std::size_t cells = 0;  // blocks or joint polygons written
   std::size_t points = 0;
@@ -33,9 +38,11 @@ struct VtuStats {
 /// (dimension 2, docs/2d.md) are VTK_POLYGON cells instead, their points in the polygon's
 /// order (y = 0), with the same cell data and no face streams. Throws Error if
 /// the system has no geometry (run slice-vertices) or the file cannot be written. `threads`:
-/// for the compression (0: all cores); the bytes are the same for every count.
+/// for the compression (0: all cores); the bytes are the same for every count. `ids`: the type
+/// of the cell arrays.
 VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& bs,
-                          VtuCompressor compressor = VtuCompressor::lz4, int threads = 0);
+                          VtuCompressor compressor = VtuCompressor::lz4, int threads = 0,
+                          VtuIds ids = VtuIds::narrowest);
 
 /// joints.vtu: one VTK_POLYGON cell per joint, its part inside the domain (a persistent joint is
 /// its plane clipped to the domain; a polygon joint its polygon clipped to the domain). Joints

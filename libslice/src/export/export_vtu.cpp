@@ -75,7 +75,7 @@ VtuCompressor parse_vtu_compressor(const std::string& text, const std::string& o
 }
 
 VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& bs,
-                          VtuCompressor compressor, int threads) {
+                          VtuCompressor compressor, int threads, VtuIds ids) {
   if (!bs.geometry)
     throw Error(out.string(), "the blocks have no vertices (no /geometry)",
                 "run slice-vertices on the blocks file first");
@@ -122,6 +122,13 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
   Range r_points;
   if (r_points2.lo <= r_points2.hi) r_points = {std::sqrt(r_points2.lo), std::sqrt(r_points2.hi)};
 
+  // The cells' point numbers and offsets as Int32 where every one fits (VtuIds): half the bytes
+  // to compress, write and read of the larger arrays.
+  const bool narrow =
+      ids == VtuIds::narrowest &&
+      std::max({points, conn, stream_len}) <= std::size_t(std::numeric_limits<std::int32_t>::max());
+  const char* id_type = narrow ? "Int32" : "Int64";
+
   PartialFile part(out);
   vtu::File f(part.path(), out.string(), compressor);
   f.header(points, cells,
@@ -138,10 +145,10 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
             {"Cells",
              [&] {
                std::vector<vtu::ArraySpec> a = {
-                   {"Int64", "connectivity"}, {"Int64", "offsets"}, {"UInt8", "types"}};
+                   {id_type, "connectivity"}, {id_type, "offsets"}, {"UInt8", "types"}};
                if (!section) {
-                 a.push_back({"Int64", "faces", 1, true});
-                 a.push_back({"Int64", "faceoffsets", 1, true});
+                 a.push_back({id_type, "faces", 1, true});
+                 a.push_back({id_type, "faceoffsets", 1, true});
                }
                return a;
              }()}},
@@ -169,41 +176,48 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
         o.insert(o.end(), {x.x(), x.y(), x.z()});
       }
     });
-    // Each block has its own points, numbered in the order of its vertices.
-    std::int64_t base = 0;
+    // Each block has its own points, numbered in the order of its vertices; Id: the type of the
+    // cells' arrays.
     const auto nv = [&](std::size_t k) {
       return g.vertex_offset[kept[k] + 1] - g.vertex_offset[kept[k]];
     };
-    stream<std::int64_t>(f, cells, conn, [&](std::size_t k, auto& o) {
-      for (std::int64_t v = 0, n = nv(k); v < n; ++v) o.push_back(base + v);
-      base += nv(k);
-    });
-    base = 0;
-    stream<std::int64_t>(f, cells, cells,
-                         [&](std::size_t k, auto& o) { o.push_back(base += nv(k)); });
-    stream<std::uint8_t>(f, cells, cells, [&](std::size_t, auto& o) {
-      o.push_back(section ? kVtkPolygon : kVtkPolyhedron);
-    });
-    if (section) return;
-    // Faces: per block its face count, then per face its vertex count and point ids.
-    base = 0;
-    stream<std::int64_t>(f, cells, stream_len, [&](std::size_t k, auto& o) {
-      const std::size_t nf = block(k).faces.size();
-      o.push_back(std::int64_t(nf));
-      for (std::size_t r = face_row[k]; r < face_row[k] + nf; ++r) {
-        const auto lo = g.face_vertex_offset[r], hi = g.face_vertex_offset[r + 1];
-        o.push_back(hi - lo);
-        for (auto v = lo; v < hi; ++v) o.push_back(base + g.face_vertices[std::size_t(v)]);
-      }
-      base += nv(k);
-    });
-    std::int64_t end = 0;
-    stream<std::int64_t>(f, cells, cells, [&](std::size_t k, auto& o) {
-      const std::size_t nf = block(k).faces.size();
-      end += 1 + std::int64_t(nf) +
-             (g.face_vertex_offset[face_row[k] + nf] - g.face_vertex_offset[face_row[k]]);
-      o.push_back(end);
-    });
+    const auto cell_arrays = [&](auto id) {
+      using Id = decltype(id);
+      std::int64_t base = 0;
+      stream<Id>(f, cells, conn, [&](std::size_t k, auto& o) {
+        for (std::int64_t v = 0, n = nv(k); v < n; ++v) o.push_back(Id(base + v));
+        base += nv(k);
+      });
+      base = 0;
+      stream<Id>(f, cells, cells, [&](std::size_t k, auto& o) { o.push_back(Id(base += nv(k))); });
+      stream<std::uint8_t>(f, cells, cells, [&](std::size_t, auto& o) {
+        o.push_back(section ? kVtkPolygon : kVtkPolyhedron);
+      });
+      if (section) return;
+      // Faces: per block its face count, then per face its vertex count and point ids.
+      base = 0;
+      stream<Id>(f, cells, stream_len, [&](std::size_t k, auto& o) {
+        const std::size_t nf = block(k).faces.size();
+        o.push_back(Id(nf));
+        for (std::size_t r = face_row[k]; r < face_row[k] + nf; ++r) {
+          const auto lo = g.face_vertex_offset[r], hi = g.face_vertex_offset[r + 1];
+          o.push_back(Id(hi - lo));
+          for (auto v = lo; v < hi; ++v) o.push_back(Id(base + g.face_vertices[std::size_t(v)]));
+        }
+        base += nv(k);
+      });
+      std::int64_t end = 0;
+      stream<Id>(f, cells, cells, [&](std::size_t k, auto& o) {
+        const std::size_t nf = block(k).faces.size();
+        end += 1 + std::int64_t(nf) +
+               (g.face_vertex_offset[face_row[k] + nf] - g.face_vertex_offset[face_row[k]]);
+        o.push_back(Id(end));
+      });
+    };
+    if (narrow)
+      cell_arrays(std::int32_t{});
+    else
+      cell_arrays(std::int64_t{});
   });
   f.finish();
   part.commit();
