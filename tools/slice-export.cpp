@@ -22,8 +22,7 @@ int main(int argc, char** argv) {
   std::string in, out, format = "vtu", joints;
   slice::YadeOptions yade;  // defaults live in the library
   t.cli
-      .add_option("geometry", in,
-                  "geom.h5 from slice-vertices (fab: joints.h5 or any later file)")
+      .add_option("geometry", in, "geom.h5 from slice-vertices (fab: joints.h5 or any later file)")
       ->required();
   t.cli
       .add_option("-o,--output", out,
@@ -98,6 +97,20 @@ int main(int argc, char** argv) {
     yade.validate();
     tdec.validate();
     const auto vtu_compressor = slice::parse_vtu_compressor(compressor, "--vtu-compressor");
+    if (format == "vtu") {  // from the file: /geometry is not held (the same checks and bytes)
+      slice::JointSystem js;
+      const auto st = slice::export_blocks_vtu(in, out, vtu_compressor, t.threads,
+                                               slice::VtuIds::narrowest, &js);
+      t.say(std::to_string(st.cells) + " blocks (" + std::to_string(st.skipped) +
+            " removed left out), " + std::to_string(st.points) + " points -> " + out);
+      if (!joints.empty()) {
+        const auto jst = slice::write_joints_vtu(joints, js, vtu_compressor);
+        t.say(std::to_string(jst.cells) + " joints (" + std::to_string(jst.skipped) +
+              " outside the domain left out) -> " + joints);
+      }
+      t.exit_now();
+      return;
+    }
     const slice::BlockSystem bs = slice::read_blocks(in);
     if (!bs.geometry)
       throw slice::Error(in, "the blocks have no vertices (no /geometry)",
@@ -112,18 +125,6 @@ int main(int argc, char** argv) {
       const auto st = slice::write_udec(out, bs);
       t.say(std::to_string(st.blocks) + " blocks (" + std::to_string(st.removed) +
             " removed left out), " + std::to_string(st.vertices) + " corners -> " + out);
-      t.exit_now();
-      return;
-    }
-    if (format == "vtu") {
-      const auto st = slice::write_blocks_vtu(out, bs, vtu_compressor, t.threads);
-      t.say(std::to_string(st.cells) + " blocks (" + std::to_string(st.skipped) +
-            " removed left out), " + std::to_string(st.points) + " points -> " + out);
-      if (!joints.empty()) {
-        const auto js = slice::write_joints_vtu(joints, bs.joints, vtu_compressor);
-        t.say(std::to_string(js.cells) + " joints (" + std::to_string(js.skipped) +
-              " outside the domain left out) -> " + joints);
-      }
       t.exit_now();
       return;
     }

@@ -9,9 +9,11 @@
 
 #include "io/file_common.hpp"
 #include "io/geometry_check.hpp"
+#include "io/geometry_stream.hpp"
 #include "io/h5/h5.hpp"
 #include "slice/cut.hpp"
 #include "slice/error.hpp"
+#include "slice/export_vtu.hpp"
 #include "slice/h5io.hpp"
 #include "slice/scene.hpp"
 #include "slice/vertices.hpp"
@@ -312,6 +314,18 @@ TEST_CASE("the reader checks /geometry run by run as it reads and decides as a w
     slice::write_blocks(dir / "g.h5", bs, {});
     return dir / "g.h5";
   };
+  // The file with vertex `row` moved out by twice the file's tolerance, past the writer's own
+  // check: spoiled in the file.
+  const auto spoil = [&](std::size_t row) {
+    slice::write_blocks(dir / "g.h5", grid, {});
+    slice::h5::File f = slice::h5::File::open(dir / "g.h5", {"g.h5", ""}, true);
+    const auto geo = f.root().open_group("geometry");
+    auto v = geo.read<double>("vertices", 3);
+    v[3 * row] -= 2 * file_tol;
+    geo.remove("vertices");
+    geo.write<double>("vertices", v, 3);
+    f.close();
+  };
   SECTION("the right /geometry reads back unchanged") {
     const auto back = slice::read_blocks(written(0));
     REQUIRE(back.geometry);
@@ -327,19 +341,85 @@ TEST_CASE("the reader checks /geometry run by run as it reads and decides as a w
   }
   SECTION("off by more than the file's tolerance: refused, naming the vertex row") {
     const std::size_t row = std::size_t(g.vertex_offset[1]);
-    {  // past the writer's own check: spoiled in the file
-      slice::write_blocks(dir / "g.h5", grid, {});
-      slice::h5::File f = slice::h5::File::open(dir / "g.h5", {"g.h5", ""}, true);
-      const auto geo = f.root().open_group("geometry");
-      auto v = geo.read<double>("vertices", 3);
-      v[3 * row] -= 2 * file_tol;
-      geo.remove("vertices");
-      geo.write<double>("vertices", v, 3);
-      f.close();
-    }
+    spoil(row);
     const std::string msg = error_of([&] { slice::read_blocks(dir / "g.h5"); });
     CHECK_THAT(msg, Contains("/geometry/vertices row " + std::to_string(row)) &&
                         Contains("outside face") && Contains("of block 1 "));
+  }
+  // The VTU export's reader (io/geometry_stream.hpp): the same runs and checks, nothing held.
+  const auto vtu_of_read_blocks = [&](const std::filesystem::path& p) {
+    slice::write_blocks_vtu(dir / "held.vtu", slice::read_blocks(p));
+    return test::read_bytes(dir / "held.vtu");
+  };
+  SECTION("streamed for the VTU export: the runs and rows read_blocks reads, the same VTU") {
+    const auto p = written(0);
+    slice::Geometry joined;
+    joined.vertex_offset = {0};
+    joined.face_vertex_offset = {0};
+    std::size_t runs = 0;
+    const auto stream =
+        slice::GeometryStream::open(p, [&](const slice::BlockSystem& bs, const slice::Geometry& run,
+                                           const slice::GeometryBase& base, std::size_t n) {
+          CHECK(bs.blocks.size() == grid.blocks.size());
+          CHECK(base.block == runs * slice::h5file::kBatch);
+          CHECK(base.block == joined.volume.size());
+          CHECK(base.vertex == joined.vertex_offset.back());
+          ++runs;
+          const auto append = [](auto& to, const auto& from) {
+            to.insert(to.end(), from.begin(), from.end());
+          };
+          for (std::size_t b = 1; b <= n; ++b)
+            joined.vertex_offset.push_back(base.vertex + run.vertex_offset[b]);
+          for (std::size_t f = 1; f < run.face_vertex_offset.size(); ++f)
+            joined.face_vertex_offset.push_back(base.face_vertex + run.face_vertex_offset[f]);
+          append(joined.vertices, run.vertices);
+          append(joined.face_vertices, run.face_vertices);
+          append(joined.volume, run.volume);
+          append(joined.centroid, run.centroid);
+          append(joined.inertia, run.inertia);
+          append(joined.face_area, run.face_area);
+          append(joined.face_joint_fraction, run.face_joint_fraction);
+        });
+    REQUIRE(stream);
+    CHECK(runs == 2);
+    check_same(g, joined);
+    CHECK(stream->vertex_offset() == g.vertex_offset);
+    CHECK(stream->face_vertex_offset() == g.face_vertex_offset);
+    std::vector<slice::Vec3> v;
+    std::vector<std::int64_t> fv;
+    stream->read_vertices(8, 20, v);
+    CHECK(v == std::vector<slice::Vec3>(g.vertices.begin() + 8, g.vertices.begin() + 20));
+    stream->read_face_vertices(5, g.face_vertices.size(), fv);
+    CHECK(fv == std::vector<std::int64_t>(g.face_vertices.begin() + 5, g.face_vertices.end()));
+    // More vertices than one window of the export's reads: it reads several.
+    REQUIRE(g.vertices.size() > std::size_t(1) << 19);
+    slice::JointSystem js;
+    const auto st = slice::export_blocks_vtu(p, dir / "streamed.vtu", slice::VtuCompressor::lz4, 2,
+                                             slice::VtuIds::narrowest, &js);
+    CHECK(st.cells == grid.blocks.size());
+    CHECK(js.joints.size() == grid.joints.joints.size());
+    CHECK(test::read_bytes(dir / "streamed.vtu") == vtu_of_read_blocks(p));
+  }
+  SECTION(
+      "streamed, a run off by more than its own tolerance but within the file's: the file "
+      "read whole, the same VTU") {
+    const auto p = written(-0.5 * (run_tol + file_tol));
+    CHECK_FALSE(slice::GeometryStream::open(p, {}));
+    slice::export_blocks_vtu(p, dir / "streamed.vtu");
+    CHECK(test::read_bytes(dir / "streamed.vtu") == vtu_of_read_blocks(p));
+  }
+  SECTION("streamed, spoiled past the file's tolerance or without /geometry: read_blocks' error") {
+    const std::size_t row = std::size_t(g.vertex_offset[1]);
+    spoil(row);
+    const std::string msg = error_of([&] { slice::read_blocks(dir / "g.h5"); });
+    CHECK_THAT(msg, Contains("/geometry/vertices row " + std::to_string(row)));
+    CHECK(error_of([&] { slice::export_blocks_vtu(dir / "g.h5", dir / "x.vtu"); }) == msg);
+    auto bare = grid;
+    bare.geometry.reset();
+    slice::write_blocks(dir / "bare.h5", bare, {});
+    CHECK_THAT(error_of([&] { slice::export_blocks_vtu(dir / "bare.h5", dir / "x.vtu"); }),
+               Contains("bare.h5") && Contains("no /geometry") && Contains("slice-vertices"));
+    CHECK_FALSE(std::filesystem::exists(dir / "x.vtu"));
   }
   SECTION("bad values in both runs: the first bad block is named") {
     const std::size_t second = slice::h5file::kBatch + 7;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "../io/geometry_stream.hpp"
 #include "../threads.hpp"
 #include "slice/error.hpp"
 #include "slice/orientation.hpp"
@@ -21,6 +22,9 @@
 namespace slice {
 namespace {
 
+// The refusal of a blocks file without /geometry (slice-export's, for every format).
+constexpr const char* kNoGeometry = "the blocks have no vertices (no /geometry)";
+constexpr const char* kNoGeometryFix = "run slice-vertices on it first";
 constexpr std::uint8_t kVtkLine = 3, kVtkPolygon = 7, kVtkPolyhedron = 42;  // VTK's cell types
 constexpr std::size_t kChunkBytes = 1 << 20;  // values gathered before they go to the file
 
@@ -74,12 +78,16 @@ VtuCompressor parse_vtu_compressor(const std::string& text, const std::string& o
   throw Error(option, "is \"" + text + "\"", "use lz4 (fast), zlib (small) or none");
 }
 
-VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& bs,
-                          VtuCompressor compressor, int threads, VtuIds ids) {
-  if (!bs.geometry)
-    throw Error(out.string(), "the blocks have no vertices (no /geometry)",
-                "run slice-vertices on the blocks file first");
-  const Geometry& g = *bs.geometry;
+namespace {
+
+/// blocks.vtu of the blocks of `bs` and the geometry `src` gives (MemorySource, FileSource):
+/// their volumes, their vertices and loops by rows of /geometry, asked for in increasing order.
+/// `points2`: the range of the squared magnitudes of the vertices of the blocks not removed.
+template <class Source>
+VtuStats write_vtu(const std::filesystem::path& out, const BlockSystem& bs, Source& src,
+                   const Range& points2, VtuCompressor compressor, int threads, VtuIds ids) {
+  const std::vector<std::int64_t>& vertex_offset = src.vertex_offset();
+  const std::vector<std::int64_t>& face_vertex_offset = src.face_vertex_offset();
   // A section's block (docs/2d.md) is a polygon: its vertices are the polygon's points in order
   // (counter-clockwise in (x, z)), one VTK_POLYGON with no face stream.
   const bool section = bs.joints.dimension == 2;
@@ -87,7 +95,7 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
   // The kept blocks, their first face row, and the sizes and ranges the header states.
   std::vector<std::size_t> kept, face_row;
   std::size_t points = 0, conn = 0, stream_len = 0, row = 0;
-  Range r_id, r_volume, r_inradius, r_cluster, r_boundary, r_fixed, r_aspect, r_points2;
+  Range r_id, r_volume, r_inradius, r_cluster, r_boundary, r_fixed, r_aspect;
   const auto aspect = [](const Block& b) {
     return b.inradius > 0 ? b.bsphere[3] / b.inradius : 0.0;
   };
@@ -101,26 +109,24 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
     }
     kept.push_back(b);
     face_row.push_back(row);
-    const auto nv = std::size_t(g.vertex_offset[b + 1] - g.vertex_offset[b]);
+    const auto nv = std::size_t(vertex_offset[b + 1] - vertex_offset[b]);
     points += nv;
     conn += nv;
-    stream_len += 1 + nf + std::size_t(g.face_vertex_offset[row + nf] - g.face_vertex_offset[row]);
+    stream_len += 1 + nf + std::size_t(face_vertex_offset[row + nf] - face_vertex_offset[row]);
     row += nf;
     r_id.add(double(b));
-    r_volume.add(g.volume[b]);
+    r_volume.add(src.volume(b));
     r_inradius.add(blk.inradius);
     r_cluster.add(double(blk.cluster));
     r_boundary.add((blk.flags & kBoundary) ? 1 : 0);
     r_fixed.add(is_fixed(blk) ? 1 : 0);
     r_aspect.add(aspect(blk));
-    for (auto v = g.vertex_offset[b]; v < g.vertex_offset[b + 1]; ++v)
-      r_points2.add(g.vertices[std::size_t(v)].squaredNorm());
   }
   const std::size_t cells = kept.size();
   // The points' magnitudes: the roots of the extreme squares (the root is monotonic: the same
   // numbers as the extremes of the roots, one root each instead of one per point).
   Range r_points;
-  if (r_points2.lo <= r_points2.hi) r_points = {std::sqrt(r_points2.lo), std::sqrt(r_points2.hi)};
+  if (points2.lo <= points2.hi) r_points = {std::sqrt(points2.lo), std::sqrt(points2.hi)};
 
   // The cells' point numbers and offsets as Int32 where every one fits (VtuIds): half the bytes
   // to compress, write and read of the larger arrays.
@@ -159,7 +165,7 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
     stream<std::int64_t>(f, cells, cells,
                          [&](std::size_t k, auto& o) { o.push_back(std::int64_t(kept[k])); });
     stream<double>(f, cells, cells,
-                   [&](std::size_t k, auto& o) { o.push_back(g.volume[kept[k]]); });
+                   [&](std::size_t k, auto& o) { o.push_back(src.volume(kept[k])); });
     stream<double>(f, cells, cells,
                    [&](std::size_t k, auto& o) { o.push_back(block(k).inradius); });
     stream<std::int64_t>(f, cells, cells,
@@ -171,15 +177,15 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
                          [&](std::size_t k, auto& o) { o.push_back(is_fixed(block(k)) ? 1 : 0); });
     stream<double>(f, cells, cells, [&](std::size_t k, auto& o) { o.push_back(aspect(block(k))); });
     stream<double>(f, cells, 3 * points, [&](std::size_t k, auto& o) {
-      for (auto v = g.vertex_offset[kept[k]]; v < g.vertex_offset[kept[k] + 1]; ++v) {
-        const Vec3& x = g.vertices[std::size_t(v)];
-        o.insert(o.end(), {x.x(), x.y(), x.z()});
-      }
+      const auto lo = std::size_t(vertex_offset[kept[k]]);
+      const auto hi = std::size_t(vertex_offset[kept[k] + 1]);
+      const Vec3* x = src.vertices(lo, hi);
+      for (std::size_t v = 0; v < hi - lo; ++v) o.insert(o.end(), {x[v].x(), x[v].y(), x[v].z()});
     });
     // Each block has its own points, numbered in the order of its vertices; Id: the type of the
     // cells' arrays.
     const auto nv = [&](std::size_t k) {
-      return g.vertex_offset[kept[k] + 1] - g.vertex_offset[kept[k]];
+      return vertex_offset[kept[k] + 1] - vertex_offset[kept[k]];
     };
     const auto cell_arrays = [&](auto id) {
       using Id = decltype(id);
@@ -199,10 +205,13 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
       stream<Id>(f, cells, stream_len, [&](std::size_t k, auto& o) {
         const std::size_t nf = block(k).faces.size();
         o.push_back(Id(nf));
+        const auto first = std::size_t(face_vertex_offset[face_row[k]]);
+        const std::int64_t* loops =
+            src.loops(first, std::size_t(face_vertex_offset[face_row[k] + nf])) - first;
         for (std::size_t r = face_row[k]; r < face_row[k] + nf; ++r) {
-          const auto lo = g.face_vertex_offset[r], hi = g.face_vertex_offset[r + 1];
+          const auto lo = face_vertex_offset[r], hi = face_vertex_offset[r + 1];
           o.push_back(Id(hi - lo));
-          for (auto v = lo; v < hi; ++v) o.push_back(Id(base + g.face_vertices[std::size_t(v)]));
+          for (auto v = lo; v < hi; ++v) o.push_back(Id(base + loops[v]));
         }
         base += nv(k);
       });
@@ -210,7 +219,7 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
       stream<Id>(f, cells, cells, [&](std::size_t k, auto& o) {
         const std::size_t nf = block(k).faces.size();
         end += 1 + std::int64_t(nf) +
-               (g.face_vertex_offset[face_row[k] + nf] - g.face_vertex_offset[face_row[k]]);
+               (face_vertex_offset[face_row[k] + nf] - face_vertex_offset[face_row[k]]);
         o.push_back(Id(end));
       });
     };
@@ -224,6 +233,104 @@ VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& b
   st.cells = cells;
   st.points = points;
   return st;
+}
+
+/// The geometry of a BlockSystem that holds it.
+class MemorySource {
+ public:
+  explicit MemorySource(const Geometry& g) : g_(g) {}
+  const std::vector<std::int64_t>& vertex_offset() const { return g_.vertex_offset; }
+  const std::vector<std::int64_t>& face_vertex_offset() const { return g_.face_vertex_offset; }
+  double volume(std::size_t b) const { return g_.volume[b]; }
+  const Vec3* vertices(std::size_t lo, std::size_t) const { return g_.vertices.data() + lo; }
+  const std::int64_t* loops(std::size_t lo, std::size_t) const {
+    return g_.face_vertices.data() + lo;
+  }
+
+ private:
+  const Geometry& g_;
+};
+
+/// The geometry of a file read by a GeometryStream: the volumes kept, the vertices and loops read
+/// again a window of rows at a time (at least kWindowRows, and all that is asked for).
+class FileSource {
+ public:
+  FileSource(const GeometryStream& file, std::vector<double> volumes)
+      : file_(file), volume_(std::move(volumes)) {}
+  const std::vector<std::int64_t>& vertex_offset() const { return file_.vertex_offset(); }
+  const std::vector<std::int64_t>& face_vertex_offset() const { return file_.face_vertex_offset(); }
+  double volume(std::size_t b) const { return volume_[b]; }
+  const Vec3* vertices(std::size_t lo, std::size_t hi) {
+    return window(lo, hi, file_.vertex_offset().back(), vertices_, vertices_at_,
+                  [&](std::size_t a, std::size_t b) { file_.read_vertices(a, b, vertices_); });
+  }
+  const std::int64_t* loops(std::size_t lo, std::size_t hi) {
+    return window(lo, hi, file_.face_vertex_offset().back(), loops_, loops_at_,
+                  [&](std::size_t a, std::size_t b) { file_.read_face_vertices(a, b, loops_); });
+  }
+
+ private:
+  static constexpr std::size_t kWindowRows = std::size_t(1) << 19;
+  /// Rows [lo, hi) of a dataset of `rows` rows, from the window `buf` (rows from `at`), read
+  /// anew from lo on where they are not all in it.
+  template <class T, class Read>
+  static const T* window(std::size_t lo, std::size_t hi, std::int64_t rows, std::vector<T>& buf,
+                         std::size_t& at, const Read& read) {
+    if (lo < at || hi > at + buf.size()) {
+      at = lo;
+      read(lo, std::max(hi, std::min(std::size_t(rows), lo + kWindowRows)));
+    }
+    return buf.data() + (lo - at);
+  }
+  const GeometryStream& file_;
+  std::vector<double> volume_;
+  std::vector<Vec3> vertices_;
+  std::vector<std::int64_t> loops_;
+  std::size_t vertices_at_ = 0, loops_at_ = 0;
+};
+
+}  // namespace
+
+VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& bs,
+                          VtuCompressor compressor, int threads, VtuIds ids) {
+  if (!bs.geometry)
+    throw Error(out.string(), "the blocks have no vertices (no /geometry)",
+                "run slice-vertices on the blocks file first");
+  const Geometry& g = *bs.geometry;
+  Range points2;
+  for (std::size_t b = 0; b < bs.blocks.size(); ++b)
+    if (!(bs.blocks[b].flags & kRemoved))
+      for (auto v = g.vertex_offset[b]; v < g.vertex_offset[b + 1]; ++v)
+        points2.add(g.vertices[std::size_t(v)].squaredNorm());
+  MemorySource src(g);
+  return write_vtu(out, bs, src, points2, compressor, threads, ids);
+}
+
+VtuStats export_blocks_vtu(const std::filesystem::path& in, const std::filesystem::path& out,
+                           VtuCompressor compressor, int threads, VtuIds ids, JointSystem* joints) {
+  // The volumes of the blocks and the range of the squared magnitudes of the points of those not
+  // removed, as the runs come in (in block order, one at a time).
+  std::vector<double> volumes;
+  Range points2;
+  const auto stream = GeometryStream::open(
+      in, [&](const BlockSystem& bs, const Geometry& run, const GeometryBase& base, std::size_t n) {
+        volumes.insert(volumes.end(), run.volume.begin(), run.volume.end());
+        for (std::size_t b = 0; b < n; ++b)
+          if (!(bs.blocks[base.block + b].flags & kRemoved))
+            for (auto v = run.vertex_offset[b]; v < run.vertex_offset[b + 1]; ++v)
+              points2.add(run.vertices[std::size_t(v)].squaredNorm());
+      });
+  if (!stream) {
+    // read_blocks decides: it refuses the file, or reads it whole (a run failed only its own
+    // tolerance) and the export goes on from memory.
+    const BlockSystem bs = read_blocks(in);
+    if (joints) *joints = bs.joints;
+    if (!bs.geometry) throw Error(in.string(), kNoGeometry, kNoGeometryFix);
+    return write_blocks_vtu(out, bs, compressor, threads, ids);
+  }
+  if (joints) *joints = stream->blocks().joints;
+  FileSource src(*stream, std::move(volumes));
+  return write_vtu(out, stream->blocks(), src, points2, compressor, threads, ids);
 }
 
 namespace {

@@ -81,7 +81,9 @@ void check_block(const Checker& c, const BlockSystem& bs, const std::vector<Plan
            "; expected -1 (none) or a cluster id");
 }
 
-void check_blocks(const Checker& c, const BlockSystem& bs, bool with_geometry = true) {
+}  // namespace
+
+void check_blocks(const Checker& c, const BlockSystem& bs, bool with_geometry) {
   check_joints(c, bs.joints);
   std::vector<Plane> planes;
   planes.reserve(bs.joints.joints.size());
@@ -101,6 +103,8 @@ void check_blocks(const Checker& c, const BlockSystem& bs, bool with_geometry = 
   });
   if (with_geometry && bs.geometry) check_geometry(c, bs);
 }
+
+namespace {
 
 void write_blocks_group(const Group& root, const BlockSystem& bs) {
   const std::size_t n = bs.blocks.size();
@@ -204,6 +208,8 @@ void read_run(const h5::RowReader<T>& r, std::size_t lo, std::size_t hi, std::si
   r.read(lo, hi - lo, buf.data());
 }
 
+}  // namespace
+
 std::vector<Block> read_blocks_group(const Group& root, bool& pruned) {
   const Group g = root.open_group("blocks");
   const auto pruned_value = g.read_attribute<std::int64_t>("pruned");
@@ -288,8 +294,6 @@ std::vector<Block> read_blocks_group(const Group& root, bool& pruned) {
   }
   return blocks;
 }
-
-}  // namespace
 
 }  // namespace slice::h5file
 

@@ -99,8 +99,10 @@ class Checker {
   std::string fix_;
 };
 
-// The joint groups (joints_file.cpp), /geometry (geometry_file.cpp).
+// The joint groups (joints_file.cpp), /blocks (blocks_file.cpp: and /geometry, if the system
+// has it and `with_geometry`), /geometry (geometry_file.cpp).
 void check_joints(const Checker& c, const JointSystem& js);
+void check_blocks(const Checker& c, const BlockSystem& bs, bool with_geometry = true);
 // How far a stored vertex may lie off its faces (geometry_file.cpp says why).
 double vertex_tolerance(const JointSystem& js, const std::vector<Vec3>& vertices);
 // The same for a largest coordinate `coord` (of the vertices at hand).
@@ -206,6 +208,27 @@ FileHeader read_root_header(const Group& root);
 void expect_kind(const Group& root, FileKind want);
 // The joint groups both kinds hold (joints_file.cpp).
 JointSystem read_joint_groups(const Group& root);
+// /blocks, its shapes checked (blocks_file.cpp); `pruned` its attribute.
+std::vector<Block> read_blocks_group(const Group& root, bool& pruned);
+// /geometry opened for reading, its shapes checked against the blocks (geometry_file.cpp): the
+// offsets, read whole into the caller's vectors, and the other datasets, read by rows.
+struct GeometryRows {
+  GeometryRows(const Group& root, const std::vector<Block>& blocks,
+               std::vector<std::int64_t>& vertex_offsets,
+               std::vector<std::int64_t>& face_vertex_offsets);
+  /// Where block `block` (its first face `face`) starts in the file.
+  GeometryBase base(std::size_t block, std::size_t face) const;
+  /// The file's rows [from, end) of every dataset but the offsets into `out`, from its rows `at`
+  /// (the arrays of `out` sized to hold them).
+  void read(const GeometryBase& from, const GeometryBase& end, Geometry& out,
+            const GeometryBase& at) const;
+
+  Group g;
+  const std::vector<std::int64_t>&vertex_offset, &face_vertex_offset;
+  h5::RowReader<double> vertices;
+  h5::RowReader<std::int64_t> face_vertices;
+  h5::RowReader<double> volume, centroid, inertia, face_area, fraction;
+};
 // /geometry into `geo`, shapes checked against the blocks (geometry_file.cpp), read in runs of
 // kBatch blocks; run_read(lo, hi, face) once the rows of blocks [lo, hi) are in (`face`: the row
 // of block lo's first face). The arrays of `geo` have their sizes before the first call.

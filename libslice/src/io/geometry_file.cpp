@@ -262,63 +262,80 @@ void write_geometry_group(const Group& root, const BlockSystem& bs) {
   w.finish();
 }
 
+GeometryRows::GeometryRows(const Group& root, const std::vector<Block>& blocks,
+                           std::vector<std::int64_t>& vertex_offsets,
+                           std::vector<std::int64_t>& face_vertex_offsets)
+    : g(root.open_group("geometry")),
+      vertex_offset(vertex_offsets),
+      face_vertex_offset(face_vertex_offsets),
+      vertices(g.open_rows<double>("vertices", 3)),
+      face_vertices(g.open_rows<std::int64_t>("face_vertices", 0)),
+      volume(g.open_rows<double>("volume", 0)),
+      centroid(g.open_rows<double>("centroid", 3)),
+      inertia(g.open_rows<double>("inertia", 6)),
+      face_area(g.open_rows<double>("face_area", 0)),
+      fraction(g.open_rows<double>("face_joint_fraction", 0)) {
+  const std::size_t n = blocks.size();
+  const std::size_t faces = face_count(blocks);
+  const std::string per_block = "the rows of /blocks/origin";
+  const std::string per_face = "the rows of /blocks/face_normal";
+  vertex_offsets = g.read<std::int64_t>("vertex_offset");
+  check_offsets(g, "vertex_offset", vertex_offset, n, "blocks", vertices.rows(),
+                "/geometry/vertices");
+  face_vertex_offsets = g.read<std::int64_t>("face_vertex_offset");
+  check_offsets(g, "face_vertex_offset", face_vertex_offset, faces, "faces", face_vertices.rows(),
+                "/geometry/face_vertices");
+  expect_rows(g, "volume", volume.rows(), n, per_block);
+  expect_rows(g, "centroid", centroid.rows(), n, per_block);
+  expect_rows(g, "inertia", inertia.rows(), n, per_block);
+  expect_rows(g, "face_area", face_area.rows(), faces, per_face);
+  expect_rows(g, "face_joint_fraction", fraction.rows(), faces, per_face);
+}
+
+void GeometryRows::read(const GeometryBase& from, const GeometryBase& end, Geometry& out,
+                        const GeometryBase& at) const {
+  // rows [lo, hi) of `r` into `to`
+  const auto rows = [](const auto& r, std::size_t lo, std::size_t hi, auto* to) {
+    if (hi > lo) r.read(lo, hi - lo, to);
+  };
+  const auto v0 = std::size_t(from.vertex), v1 = std::size_t(end.vertex);
+  const auto k0 = std::size_t(from.face_vertex), k1 = std::size_t(end.face_vertex);
+  rows(vertices, v0, v1, as_doubles<3>(out.vertices) + 3 * std::size_t(at.vertex));
+  rows(face_vertices, k0, k1, out.face_vertices.data() + std::size_t(at.face_vertex));
+  rows(volume, from.block, end.block, out.volume.data() + at.block);
+  rows(centroid, from.block, end.block, as_doubles<3>(out.centroid) + 3 * at.block);
+  rows(inertia, from.block, end.block, as_doubles<6>(out.inertia) + 6 * at.block);
+  rows(face_area, from.face, end.face, out.face_area.data() + at.face);
+  rows(fraction, from.face, end.face, out.face_joint_fraction.data() + at.face);
+}
+
+GeometryBase GeometryRows::base(std::size_t block, std::size_t face) const {
+  return {block, face, vertex_offset[block], face_vertex_offset[face]};
+}
+
 // /geometry, shapes checked against the blocks before anything is indexed; values are checked
 // by check_geometry. Read in runs of kBatch blocks: `run_read(lo, hi, face)` is called once the
 // rows of blocks [lo, hi) (block lo's first face the row `face`) are all in, for a caller that
 // checks them while the next run is read (in `geo`, whose arrays are sized before the first).
 void read_geometry_group(const Group& root, const std::vector<Block>& blocks, Geometry& geo,
                          const RunRead& run_read) {
-  const Group g = root.open_group("geometry");
+  geo = Geometry();
+  const GeometryRows rows(root, blocks, geo.vertex_offset, geo.face_vertex_offset);
   const std::size_t n = blocks.size();
   const std::size_t faces = face_count(blocks);
-  const std::string per_block = "the rows of /blocks/origin";
-  const std::string per_face = "the rows of /blocks/face_normal";
-  geo = Geometry();
-  geo.vertex_offset = g.read<std::int64_t>("vertex_offset");
-  const auto vertices = g.open_rows<double>("vertices", 3);
-  check_offsets(g, "vertex_offset", geo.vertex_offset, n, "blocks", vertices.rows(),
-                "/geometry/vertices");
-  geo.face_vertex_offset = g.read<std::int64_t>("face_vertex_offset");
-  const auto face_vertices = g.open_rows<std::int64_t>("face_vertices", 0);
-  check_offsets(g, "face_vertex_offset", geo.face_vertex_offset, faces, "faces",
-                face_vertices.rows(), "/geometry/face_vertices");
-  const auto volume = g.open_rows<double>("volume", 0);
-  expect_rows(g, "volume", volume.rows(), n, per_block);
-  const auto centroid = g.open_rows<double>("centroid", 3);
-  expect_rows(g, "centroid", centroid.rows(), n, per_block);
-  const auto inertia = g.open_rows<double>("inertia", 6);
-  expect_rows(g, "inertia", inertia.rows(), n, per_block);
-  const auto face_area = g.open_rows<double>("face_area", 0);
-  expect_rows(g, "face_area", face_area.rows(), faces, per_face);
-  const auto fraction = g.open_rows<double>("face_joint_fraction", 0);
-  expect_rows(g, "face_joint_fraction", fraction.rows(), faces, per_face);
-
   // Into the rows of Vec3 and Inertia themselves: packed doubles (as_doubles).
-  geo.vertices.resize(vertices.rows());
-  geo.face_vertices.resize(face_vertices.rows());
+  geo.vertices.resize(rows.vertices.rows());
+  geo.face_vertices.resize(rows.face_vertices.rows());
   geo.volume.resize(n);
   geo.centroid.resize(n);
   geo.inertia.resize(n);
   geo.face_area.resize(faces);
   geo.face_joint_fraction.resize(faces);
-  // rows [lo, hi) of `r` into `out`, from its row lo
-  const auto rows = [](const auto& r, std::size_t lo, std::size_t hi, auto* out,
-                       std::size_t width) {
-    if (hi > lo) r.read(lo, hi - lo, out + width * lo);
-  };
   for (std::size_t b0 = 0, f0 = 0; b0 < n; b0 += kBatch) {
     const std::size_t b1 = std::min(n, b0 + kBatch);
     const std::size_t f1 = f0 + face_count(std::span(blocks).subspan(b0, b1 - b0));
-    const auto v0 = std::size_t(geo.vertex_offset[b0]), v1 = std::size_t(geo.vertex_offset[b1]);
-    const auto k0 = std::size_t(geo.face_vertex_offset[f0]);
-    const auto k1 = std::size_t(geo.face_vertex_offset[f1]);
-    rows(vertices, v0, v1, as_doubles<3>(geo.vertices), 3);
-    rows(face_vertices, k0, k1, geo.face_vertices.data(), 1);
-    rows(volume, b0, b1, geo.volume.data(), 1);
-    rows(centroid, b0, b1, as_doubles<3>(geo.centroid), 3);
-    rows(inertia, b0, b1, as_doubles<6>(geo.inertia), 6);
-    rows(face_area, f0, f1, geo.face_area.data(), 1);
-    rows(fraction, f0, f1, geo.face_joint_fraction.data(), 1);
+    const GeometryBase from = rows.base(b0, f0);
+    rows.read(from, rows.base(b1, f1), geo, from);
     if (run_read) run_read(b0, b1, f0);
     f0 = f1;
   }
