@@ -205,13 +205,14 @@ VtuStats write_vtu(const std::filesystem::path& out, const BlockSystem& bs, Sour
       stream<Id>(f, cells, stream_len, [&](std::size_t k, auto& o) {
         const std::size_t nf = block(k).faces.size();
         o.push_back(Id(nf));
-        const auto first = std::size_t(face_vertex_offset[face_row[k]]);
+        // The block's loops, from its first face's first entry (`first`).
+        const auto first = face_vertex_offset[face_row[k]];
         const std::int64_t* loops =
-            src.loops(first, std::size_t(face_vertex_offset[face_row[k] + nf])) - first;
+            src.loops(std::size_t(first), std::size_t(face_vertex_offset[face_row[k] + nf]));
         for (std::size_t r = face_row[k]; r < face_row[k] + nf; ++r) {
           const auto lo = face_vertex_offset[r], hi = face_vertex_offset[r + 1];
           o.push_back(Id(hi - lo));
-          for (auto v = lo; v < hi; ++v) o.push_back(Id(base + loops[v]));
+          for (auto v = lo; v < hi; ++v) o.push_back(Id(base + loops[v - first]));
         }
         base += nv(k);
       });

@@ -903,7 +903,7 @@ class Cutter {
 
     // The joints of each group: the groups each joint may reach (bits), on every thread (the
     // root's hand-out tests all the joints).
-    static_assert(kGroups <= 8);
+    static_assert(kGroups <= 8 && kGroups <= GroupBoxes::kMax);
     std::vector<std::uint8_t> reached(task.joints.size() - k, 0);
     // Isolated: a thread waiting here runs only these tests, not another task (whose children
     // would then wait for it).

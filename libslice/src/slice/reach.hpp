@@ -155,7 +155,6 @@ class SphereGroup {
   }
   const Vec3& lo() const { return lo_; }
   const Vec3& hi() const { return hi_; }
-  bool empty() const { return spheres_.size() == 0; }
   /// Whether the joint may reach one of the spheres (q: may_reach's).
   bool any_reached(const ReachQuery& q) const { return spheres_.any_reached(q); }
 
