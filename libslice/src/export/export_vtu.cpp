@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,7 @@
 namespace slice {
 namespace {
 
-// The refusal of a blocks file without /geometry (slice-export's, for every format).
+// The refusal of a blocks file without /geometry (slice-export's, for every format) and its fix.
 constexpr const char* kNoGeometry = "the blocks have no vertices (no /geometry)";
 constexpr const char* kNoGeometryFix = "run slice-vertices on it first";
 constexpr std::uint8_t kVtkLine = 3, kVtkPolygon = 7, kVtkPolyhedron = 42;  // VTK's cell types
@@ -236,6 +237,15 @@ VtuStats write_vtu(const std::filesystem::path& out, const BlockSystem& bs, Sour
   return st;
 }
 
+/// Adds to `points2` the squared magnitudes of the vertices in `g` of the blocks not removed
+/// (`blocks`: those `g` holds, its block 0 the first).
+void add_points(Range& points2, std::span<const Block> blocks, const Geometry& g) {
+  for (std::size_t b = 0; b < blocks.size(); ++b)
+    if (!(blocks[b].flags & kRemoved))
+      for (auto v = g.vertex_offset[b]; v < g.vertex_offset[b + 1]; ++v)
+        points2.add(g.vertices[std::size_t(v)].squaredNorm());
+}
+
 /// The geometry of a BlockSystem that holds it.
 class MemorySource {
  public:
@@ -295,14 +305,10 @@ class FileSource {
 VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& bs,
                           VtuCompressor compressor, int threads, VtuIds ids) {
   if (!bs.geometry)
-    throw Error(out.string(), "the blocks have no vertices (no /geometry)",
-                "run slice-vertices on the blocks file first");
+    throw Error(out.string(), kNoGeometry, "run slice-vertices on the blocks file first");
   const Geometry& g = *bs.geometry;
   Range points2;
-  for (std::size_t b = 0; b < bs.blocks.size(); ++b)
-    if (!(bs.blocks[b].flags & kRemoved))
-      for (auto v = g.vertex_offset[b]; v < g.vertex_offset[b + 1]; ++v)
-        points2.add(g.vertices[std::size_t(v)].squaredNorm());
+  add_points(points2, bs.blocks, g);
   MemorySource src(g);
   return write_vtu(out, bs, src, points2, compressor, threads, ids);
 }
@@ -316,10 +322,7 @@ VtuStats export_blocks_vtu(const std::filesystem::path& in, const std::filesyste
   const auto stream = GeometryStream::open(
       in, [&](const BlockSystem& bs, const Geometry& run, const GeometryBase& base, std::size_t n) {
         volumes.insert(volumes.end(), run.volume.begin(), run.volume.end());
-        for (std::size_t b = 0; b < n; ++b)
-          if (!(bs.blocks[base.block + b].flags & kRemoved))
-            for (auto v = run.vertex_offset[b]; v < run.vertex_offset[b + 1]; ++v)
-              points2.add(run.vertices[std::size_t(v)].squaredNorm());
+        add_points(points2, std::span(bs.blocks).subspan(base.block, n), run);
       });
   if (!stream) {
     // read_blocks decides: it refuses the file, or reads it whole (a run failed only its own
