@@ -445,16 +445,6 @@ slice::VertexExtremes plain_vertex_extremes(const std::vector<Face>& faces, unsi
   return out;
 }
 
-/// The same directions answered, by the same bits (the others' x is undefined).
-bool same_bits(const slice::VertexExtremes& a, const slice::VertexExtremes& b) {
-  if (a.found != b.found) return false;
-  for (int dir = 0; dir < 6; ++dir)
-    if ((a.found & (1u << dir)) &&
-        std::memcmp(&a.x[std::size_t(dir)], &b.x[std::size_t(dir)], sizeof(Vec3)) != 0)
-      return false;
-  return true;
-}
-
 }  // namespace
 
 TEST_CASE("vertex extremes of both pieces of a split are each piece's own, bit for bit",

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -120,6 +121,16 @@ inline void enumerate_vertices(RandomBlock& b, double scale) {
           if (std::abs(b.faces[f].normal.dot(x) - b.faces[f].d) <= on) v.faces.push_back(f);
         b.vertices.push_back(v);
       }
+}
+
+/// The same directions answered, by the same bits (the others' x is undefined).
+inline bool same_bits(const slice::VertexExtremes& a, const slice::VertexExtremes& b) {
+  if (a.found != b.found) return false;
+  for (int dir = 0; dir < 6; ++dir)
+    if ((a.found & (1u << dir)) &&
+        std::memcmp(&a.x[std::size_t(dir)], &b.x[std::size_t(dir)], sizeof(Vec3)) != 0)
+      return false;
+  return true;
 }
 
 enum class PlaneKind { interior, vertex, edge, face, near_face, near_touch, miss };

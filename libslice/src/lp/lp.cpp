@@ -7,6 +7,7 @@
 
 #include "lp_backends.hpp"
 #include "slice/error.hpp"
+#include "vertex_extremes.hpp"
 
 namespace slice {
 
@@ -356,103 +357,13 @@ DenseLp& extents_lp(LpSolver& solver, std::span<const Face> faces, const Toleran
   return lp;
 }
 
-namespace {
-
-/// vertex_extremes for V variants of one block at once: variant 0 is `faces`, variant 1 (V = 2)
-/// the same faces with the last one reversed (the other piece of a split). The variants share
-/// every vertex: reversing the last face negates its normal and d, so the vertex of faces
-/// (i, j, last) is the same bits, only the sign of its last multiplier changes (and the last
-/// face's inside test). Each variant's answer is the one vertex_extremes gives it alone: per
-/// direction, the first triple (i < j < k) that proves it and lies inside.
-template <std::size_t V>
-std::array<VertexExtremes, V> vertex_extremes_of(std::span<const Face> faces,
-                                                 std::array<unsigned, V> wanted) {
-  std::array<VertexExtremes, V> out{};
-  const std::size_t m = faces.size();
-  unsigned open = 0;  // variants still looking
-  for (std::size_t v = 0; v < V; ++v) {
-    wanted[v] &= 0x3fu;
-    if (wanted[v]) open |= 1u << v;
-  }
-  if (m < 4 || m > kVertexFaces || !open) return out;
-  // A vertex from faces whose normals' triple product is below this is too ill-conditioned to
-  // be worth it (its rounding grows as 1 / det); the LP answers those blocks.
-  constexpr double kMinDet = 1e-4;
-  // A multiplier this far below zero still proves optimality to ~1e-12 of the block's size.
-  constexpr double kMultiplierSlack = 1e-12;
-  double dmax = 0;
-  for (const Face& f : faces) dmax = std::max(dmax, std::abs(f.d));
-  std::array<Vec3, kVertexFaces * kVertexFaces> cross;  // cross[i * m + j] = n_i x n_j, i < j
-  for (std::size_t i = 0; i < m; ++i)
-    for (std::size_t j = i + 1; j < m; ++j)
-      cross[i * m + j] = faces[i].normal.cross(faces[j].normal);
-  const std::size_t last = m - 1;
-  const auto proves = [](const Vec3& ra, const Vec3& rb, const Vec3& rc) {
-    unsigned bits = 0;
-    for (int t = 0; t < 3; ++t) {
-      if (ra[t] >= -kMultiplierSlack && rb[t] >= -kMultiplierSlack && rc[t] >= -kMultiplierSlack)
-        bits |= 1u << (2 * t);
-      if (ra[t] <= kMultiplierSlack && rb[t] <= kMultiplierSlack && rc[t] <= kMultiplierSlack)
-        bits |= 1u << (2 * t + 1);
-    }
-    return bits;
-  };
-  for (std::size_t i = 0; i < m; ++i) {
-    for (std::size_t j = i + 1; j < m; ++j) {
-      for (std::size_t k = j + 1; k < m; ++k) {
-        // x = (d_i a + d_j b + d_k c) / det with a = n_j x n_k, b = n_k x n_i, c = n_i x n_j:
-        // the rows of the inverse of (n_i n_j n_k)^T are a, b, c over det, so the multipliers
-        // of objective e_t are (a_t, b_t, c_t) / det.
-        const Vec3& a = cross[j * m + k];
-        const Vec3 b = -cross[i * m + k];
-        const Vec3& c = cross[i * m + j];
-        const double det = faces[i].normal.dot(a);
-        if (!(std::abs(det) >= kMinDet)) continue;
-        // Variant 1 reverses face `last`: for k == last its c (and det) change sign.
-        const bool flips = V == 2 && k == last;
-        const Vec3 ra = a / det, rb = b / det, rc = c / det;
-        std::array<unsigned, V> proven{};
-        unsigned any = 0;
-        for (std::size_t v = 0; v < V; ++v) {
-          if (!(open & (1u << v))) continue;
-          proven[v] = (v == 1 && flips ? proves(ra, rb, -rc) : proves(ra, rb, rc)) & wanted[v] &
-                      ~out[v].found;
-          any |= proven[v];
-        }
-        if (!any) continue;
-        const Vec3 x = faces[i].d * ra + faces[j].d * rb + faces[k].d * rc;
-        const double slack = 16 * std::numeric_limits<double>::epsilon() * dmax / std::abs(det);
-        bool inside = true;
-        for (std::size_t f = 0; f < last && inside; ++f)
-          inside = faces[f].normal.dot(x) <= faces[f].d + slack;
-        if (!inside) continue;
-        const double along = faces[last].normal.dot(x);
-        for (std::size_t v = 0; v < V; ++v) {
-          if (!proven[v]) continue;
-          // Variant 1's last face is (-n, -d): (-n) . x is -(n . x), exactly.
-          if (!(v == 0 ? along <= faces[last].d + slack : -along <= -faces[last].d + slack))
-            continue;
-          for (int dir = 0; dir < 6; ++dir)
-            if (proven[v] & (1u << dir)) out[v].x[std::size_t(dir)] = x;
-          out[v].found |= proven[v];
-          if (out[v].found == wanted[v]) open &= ~(1u << v);
-        }
-        if (!open) return out;
-      }
-    }
-  }
-  return out;
-}
-
-}  // namespace
-
 VertexExtremes vertex_extremes(std::span<const Face> faces, unsigned wanted) {
-  return vertex_extremes_of<1>(faces, {wanted})[0];
+  return detail::vertex_extremes_of<1>(faces, {wanted})[0];
 }
 
 std::array<VertexExtremes, 2> vertex_extremes_split(std::span<const Face> faces, unsigned below,
                                                     unsigned above) {
-  return vertex_extremes_of<2>(faces, {below, above});
+  return detail::vertex_extremes_of<2>(faces, {below, above});
 }
 
 VertexExtremes vertex_extremes(const LpSolver& solver, std::span<const Face> faces, unsigned wanted,
