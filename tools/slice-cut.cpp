@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
                                         {"pairs_rejected_box", s.rejected_box},
                                         {"pairs_rejected_faces", s.rejected_faces},
                                         {"pairs_settled_by_limit", s.settled_by_limit},
+                                        {"pairs_cut_without_lp", s.cut_without_lp},
                                         {"slivers_removed", s.slivers_removed},
                                         {"slivers_joined", s.slivers_joined},
                                         {"slivers_left", s.slivers_left},
@@ -95,14 +96,15 @@ int main(int argc, char** argv) {
           (s.fixed ? std::to_string(s.fixed) + " fixed, " : std::string()) +
           std::to_string(s.removed) + " removed, " + std::to_string(s.clusters) + " clusters) -> " +
           out);
-    t.say(
-        "splits " + std::to_string(s.splits) + ", undone by size/shape limits " +
-        std::to_string(s.splits_undone) + "; joint-block pairs skipped by the index " +
-        std::to_string(s.pairs_skipped) + ", settled without an LP " +
-        std::to_string(s.rejected_plane + s.rejected_box + s.rejected_faces + s.settled_by_limit) +
-        " (plane " + std::to_string(s.rejected_plane) + ", polygon box " +
-        std::to_string(s.rejected_box) + ", faces " + std::to_string(s.rejected_faces) +
-        ", size limit " + std::to_string(s.settled_by_limit) + ")");
+    t.say("splits " + std::to_string(s.splits) + ", undone by size/shape limits " +
+          std::to_string(s.splits_undone) + "; joint-block pairs skipped by the index " +
+          std::to_string(s.pairs_skipped) + ", settled without an LP " +
+          std::to_string(s.rejected_plane + s.rejected_box + s.rejected_faces + s.settled_by_limit +
+                         s.cut_without_lp) +
+          " (plane " + std::to_string(s.rejected_plane) + ", polygon box " +
+          std::to_string(s.rejected_box) + ", faces " + std::to_string(s.rejected_faces) +
+          ", size limit " + std::to_string(s.settled_by_limit) + ", cut " +
+          std::to_string(s.cut_without_lp) + ")");
     if (s.slivers_removed + s.slivers_joined + s.slivers_left > 0)
       t.say("slivers (free blocks under the size/shape limits, left by exempt cuts): " +
             std::to_string(s.slivers_removed) + " removed with the excavation they touch, " +

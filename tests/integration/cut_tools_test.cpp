@@ -197,12 +197,15 @@ TEST_CASE("slice-cut --no-shortcuts gives the same blocks with every pair to the
   const std::size_t settled = js["pairs_rejected_plane"].get<std::size_t>() +
                               js["pairs_rejected_box"].get<std::size_t>() +
                               js["pairs_rejected_faces"].get<std::size_t>() +
-                              js["pairs_settled_by_limit"].get<std::size_t>();
+                              js["pairs_settled_by_limit"].get<std::size_t>() +
+                              js["pairs_cut_without_lp"].get<std::size_t>();
   CHECK(settled > 0);
+  CHECK(js["pairs_cut_without_lp"].get<std::size_t>() > 0);
   CHECK(jn["pairs_rejected_plane"] == 0);
   CHECK(jn["pairs_rejected_box"] == 0);
   CHECK(jn["pairs_rejected_faces"] == 0);
   CHECK(jn["pairs_settled_by_limit"] == 0);
+  CHECK(jn["pairs_cut_without_lp"] == 0);
   CHECK(js["pairs_skipped"] == jn["pairs_skipped"]);
   CHECK(js["lps_cut_test"].get<std::size_t>() + settled == jn["lps_cut_test"].get<std::size_t>());
   // Issue 29's goal: at most 10 cut LPs per split (here: one per cut the LP makes, kept or not).

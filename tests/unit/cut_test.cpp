@@ -162,7 +162,9 @@ TEST_CASE("size and shape limits undo a split", "[cut][limits]") {
   // A slab beside a parallel face: settled before the cut LP (whether or not it cuts).
   CHECK(st.splits_undone == 0);
   CHECK(st.settled_by_limit == 1);
-  CHECK(st.lps.cut_test == 1);  // x = 0.5 only
+  // x = 0.5 only, which cuts through the middle: proved without the LP.
+  CHECK(st.cut_without_lp == 1);
+  CHECK(st.lps.cut_test == 0);
   const std::string aspect = "[options]\nmax_aspect_ratio = 3\n";
   const auto bs2 =
       cut(kUnitCube + aspect + joint(90, 90, {0.2, 0.5, 0.5}), true, slice::LpBackend::native, &st);

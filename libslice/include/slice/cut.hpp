@@ -69,6 +69,9 @@ struct CutStats {
   // settled without the cut LP (use_shortcuts; native backend; not a boundary joint). Not in
   // splits_undone, which counts the splits made and then undone.
   std::size_t settled_by_limit = 0;
+  // Pairs past those that geometry proves cut (surely_cuts: a point of the polygon deep inside
+  // the block), split without the cut LP (use_shortcuts).
+  std::size_t cut_without_lp = 0;
   std::size_t boundary = 0, removed = 0, clusters = 0;
   std::size_t fixed = 0;  // blocks on a face named in [options] fixed_faces
   // Slivers: free blocks (kept, in no cluster) under the size or shape limits, left by cuts

@@ -2,9 +2,10 @@
 // Joint-block pairs that geometry settles without the cut test's LP (src/slice/cut_reject.cpp;
 // issue 29). A joint cuts a block only if some point of its polygon (of its plane, for a
 // persistent joint) lies more than tol.cut inside every face of the block: the cut test's LP
-// (lp.hpp, cut_test) finds s* < -tol.cut. Each test here proves the opposite, that the polygon
-// misses the block by more than `margin` (reject_margin), so that s* > 0 and every backend, far
-// from its threshold, answers "no cut". A test that cannot prove it answers false and the LP
+// (lp.hpp, cut_test) finds s* < -tol.cut. Each test here but the last proves the opposite, that
+// the polygon misses the block by more than `margin` (reject_margin), so that s* > 0 and every
+// backend, far from its threshold, answers "no cut"; surely_cuts proves a cut, with a point
+// deeper than tol.cut by the margin. A test that cannot prove its answer says false and the LP
 // decides: the blocks are those the LPs alone make.
 //
 // Everything is in the block's frame: the faces, the box [lo, hi] that holds the block (its
@@ -45,6 +46,17 @@ struct ClipScratch {
 bool faces_miss_polygon(std::span<const Face> faces, const Plane& plane,
                         std::span<const Vec3> polygon, const Vec3& lo, const Vec3& hi,
                         double margin, ClipScratch& scratch);
+
+/// The converse, which settles a pair as cut (issue 29: nearly every pair past the tests above
+/// is cut): a point of the polygon (persistent: of the plane) lies more than depth + margin
+/// inside every face of the block and every edge of the polygon (`edges`, in-plane half-planes
+/// as the cut LP takes them). The LP's s* is then below -depth - margin; with depth = tol.cut,
+/// every backend answers "cut", and --certify, whose band is tol.cut, has nothing to decide
+/// again. The point tried is the mean of the corners of the region clipped by the faces and
+/// edges moved inwards by twice that; false is no answer (the LP decides).
+bool surely_cuts(std::span<const Face> faces, const Plane& plane, std::span<const Vec3> polygon,
+                 std::span<const Plane> edges, const Vec3& lo, const Vec3& hi, double depth,
+                 double margin, ClipScratch& scratch);
 
 /// Some of `points` lie below the plane and some above, farther than `margin`: if they are
 /// points of the block, the plane meets it, and faces_miss_polygon cannot settle a persistent

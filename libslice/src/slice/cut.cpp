@@ -171,6 +171,7 @@ class Subdivision {
   std::size_t tested = 0;  // joint-block pairs past the index (to the cut LP or settled)
   std::array<std::size_t, 4> rejected{};  // pairs settled without the LP, by CutReject
   std::size_t settled_by_limit = 0;       // CutStats::settled_by_limit
+  std::size_t cut_without_lp = 0;         // CutStats::cut_without_lp
 
   /// The extremes of a split block (`parent`) that lie well inside the piece with new face
   /// `plane` (both in the piece's frame): the piece has the same extremes there, without an LP.
@@ -247,7 +248,9 @@ class Subdivision {
       if (b.flags & kBoundary) continue;  // boundary blocks are never cut again
       const Plane plane = to_local(pj.plane, b.origin);
       ++tested;
-      const CutReject settled = reject(pj, i, plane);
+      const bool shortcuts = use_shortcuts();
+      if (shortcuts) frame_pair(pj, i);
+      const CutReject settled = shortcuts ? reject(i, plane) : CutReject::none;
       if (settled != CutReject::none) ++rejected[std::size_t(settled)];
       if (settled == CutReject::none && undone_either_way(joint, b, plane, referee)) {
         ++settled_by_limit;
@@ -258,8 +261,14 @@ class Subdivision {
       if (settled == CutReject::none) {
         edges_local.clear();
         for (const Plane& e : pj.edges) edges_local.push_back(to_local(e, b.origin));
-        t = referee.cut(b.faces, plane, edges_local);
-        ++lps.cut_test;
+        if (shortcuts && surely_cuts(b.faces, plane, corners_, edges_local, pair_lo_, pair_hi_,
+                                     ctx_.tol.cut, pair_margin_, clip_)) {
+          t.cuts = true;
+          ++cut_without_lp;
+        } else {
+          t = referee.cut(b.faces, plane, edges_local);
+          ++lps.cut_test;
+        }
       }
       if (t.status != LpStatus::optimal) {
         ++lps.failed;  // the paper's "self-defence": no new data structure
@@ -296,26 +305,38 @@ class Subdivision {
   std::vector<std::size_t> candidates_;
 
   std::vector<Face> child_faces_;  // early_limits' scratch
-  std::vector<Vec3> corners_;      // a joint's corners in a block's frame
+  std::vector<Vec3> corners_;      // a joint's corners in a block's frame (frame_pair)
+  Vec3 pair_lo_, pair_hi_;         // the block's box (frame_pair)
+  double pair_margin_ = 0;         // reject_margin of the pair (frame_pair)
   ClipScratch clip_;
 
-  /// Whether geometry proves, without the cut LP, that joint `pj` does not cut block i
-  /// (cut_reject.hpp): its box is the extents the block's extremes reach. Not in a 2-D section
+  /// Whether geometry may settle pairs without the cut LP (cut_reject.hpp). Not in a 2-D section
   /// (its blocks are unbounded in y), nor without the index (every pair then goes to the LP).
-  CutReject reject(const PreparedJoint& pj, std::size_t i, const Plane& plane) {
-    if (!ctx_.opt.use_index || !ctx_.opt.use_shortcuts || ctx_.tol.dimension != 3)
-      return CutReject::none;
+  bool use_shortcuts() const {
+    return ctx_.opt.use_index && ctx_.opt.use_shortcuts && ctx_.tol.dimension == 3;
+  }
+
+  /// The pair of joint `pj` and block i as the shortcuts take it: the block's box (the extents
+  /// its extremes reach), the joint's corners in its frame, and the margin.
+  void frame_pair(const PreparedJoint& pj, std::size_t i) {
     const Block& b = blocks[i];
     const auto& x = extremes[i].x;
-    const Vec3 hi(x[0][0], x[2][1], x[4][2]), lo(x[1][0], x[3][1], x[5][2]);
+    pair_hi_ = Vec3(x[0][0], x[2][1], x[4][2]);
+    pair_lo_ = Vec3(x[1][0], x[3][1], x[5][2]);
     corners_.clear();
     for (const Vec3& c : pj.corners) corners_.push_back(c - b.origin);
     // The largest coordinate a corner, the plane's point or the block reaches (global frame).
     const double magnitude =
         std::max(b.origin.cwiseAbs().maxCoeff(), pj.centre.cwiseAbs().maxCoeff() + pj.radius) +
         b.bsphere[3];
-    return reject_cut(b.faces, plane, corners_, lo, hi, x, reject_margin(ctx_.tol, magnitude),
-                      clip_);
+    pair_margin_ = reject_margin(ctx_.tol, magnitude);
+  }
+
+  /// Whether geometry proves, without the cut LP, that the joint framed by frame_pair does not
+  /// cut block i (its plane in the block's frame).
+  CutReject reject(std::size_t i, const Plane& plane) {
+    return reject_cut(blocks[i].faces, plane, corners_, pair_lo_, pair_hi_, extremes[i].x,
+                      pair_margin_, clip_);
   }
 
   void check_max_blocks(std::size_t cut) {
@@ -800,6 +821,7 @@ class Cutter {
       stats_.rejected_box += s.rejected[std::size_t(CutReject::box)];
       stats_.rejected_faces += s.rejected[std::size_t(CutReject::faces)];
       stats_.settled_by_limit += s.settled_by_limit;
+      stats_.cut_without_lp += s.cut_without_lp;
       for (const std::size_t j : s.joints_that_cut) cut[j] = 1;
     }
     std::size_t made = 1;  // blocks before joint j

@@ -73,19 +73,53 @@ bool polygon_misses_box(std::span<const Vec3> polygon, const Vec3& lo, const Vec
   return (plo.array() > hi.array() + margin).any() || (phi.array() < lo.array() - margin).any();
 }
 
+namespace {
+
+/// The region the faces tests clip: the polygon, or for a persistent joint (none) a square of
+/// its plane holding the plane's part of the box [lo, hi] grown by `margin`.
+void start_region(const Plane& plane, std::span<const Vec3> polygon, const Vec3& lo, const Vec3& hi,
+                  double margin, std::vector<Vec3>& out) {
+  if (polygon.empty())
+    plane_square(plane, lo, hi, margin, out);
+  else
+    out.assign(polygon.begin(), polygon.end());
+}
+
+/// Clips s.a by n . x <= d + grow for each plane of `planes` (faces or edges): false once empty.
+template <class Planes>
+bool clip_by(const Planes& planes, double grow, ClipScratch& s) {
+  for (const auto& p : planes) {
+    const Clip c = clip(s.a, s.b, s.dist, p.normal, p.d + grow);
+    if (c == Clip::empty) return false;
+    if (c == Clip::part) std::swap(s.a, s.b);
+  }
+  return true;
+}
+
+}  // namespace
+
 bool faces_miss_polygon(std::span<const Face> faces, const Plane& plane,
                         std::span<const Vec3> polygon, const Vec3& lo, const Vec3& hi,
                         double margin, ClipScratch& s) {
-  if (polygon.empty())
-    plane_square(plane, lo, hi, margin, s.a);
-  else
-    s.a.assign(polygon.begin(), polygon.end());
-  for (const Face& f : faces) {
-    const Clip c = clip(s.a, s.b, s.dist, f.normal, f.d + margin);
-    if (c == Clip::empty) return true;
-    if (c == Clip::part) std::swap(s.a, s.b);
-  }
-  return false;
+  start_region(plane, polygon, lo, hi, margin, s.a);
+  return !clip_by(faces, margin, s);
+}
+
+bool surely_cuts(std::span<const Face> faces, const Plane& plane, std::span<const Vec3> polygon,
+                 std::span<const Plane> edges, const Vec3& lo, const Vec3& hi, double depth,
+                 double margin, ClipScratch& s) {
+  // The region clipped twice as deep as the proof needs, so that the mean of its corners is
+  // likely to be deep enough: only the test of that point below proves anything.
+  const double inset = depth + margin;
+  start_region(plane, polygon, lo, hi, margin, s.a);
+  if (!clip_by(edges, -2 * inset, s) || !clip_by(faces, -2 * inset, s)) return false;
+  Vec3 x = Vec3::Zero();
+  for (const Vec3& p : s.a) x += p;
+  x /= static_cast<double>(s.a.size());
+  x -= plane.distance(x) * plane.normal;  // back onto the plane (rounding)
+  const auto deep = [&](const auto& p) { return p.normal.dot(x) - p.d < -inset; };
+  return std::all_of(faces.begin(), faces.end(), deep) &&
+         std::all_of(edges.begin(), edges.end(), deep);
 }
 
 bool plane_splits_points(const Plane& plane, std::span<const Vec3> points, double margin) {
