@@ -158,12 +158,14 @@ TEST_CASE("slice-cut and slice-prune refuse bad input with exit 1, writing nothi
   }
 }
 
-TEST_CASE("slice-cut writes the same bytes with the AVX2 and the portable LP kernels",
+TEST_CASE("slice-cut writes the same bytes with the AVX2 and the portable kernels",
           "[tools][cut]") {
-  // SLICE_NO_AVX2 selects the SSE2 kernels; both must choose the same rows and compute the
-  // same doubles, so every cut, face and flag comes out bit for bit the same.
+  // SLICE_NO_AVX2 selects the portable kernels (the LP's rows, the reach test, the vertex
+  // extremes); both must choose the same rows and compute the same doubles, so every cut, face
+  // and flag comes out bit for bit the same. genesis-limestone: polygon joints.
   test::TempDir tmp;
-  for (const char* scene : {"rock-slope.toml", "table3-persistent.toml"}) {
+  for (const char* scene :
+       {"rock-slope.toml", "table3-persistent.toml", "genesis-limestone.toml"}) {
     CAPTURE(scene);
     const auto joints = test::run_pipeline(tmp, scene, test::Stage::joints);
     const auto out = (tmp / "blocks.h5").string();  // one path: the command line is recorded

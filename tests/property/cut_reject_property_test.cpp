@@ -228,9 +228,15 @@ TEST_CASE("no shortcut rejects a pair the exact cut LP cuts nor proves a cut it 
             if (ex.cuts || nat.cuts) t.fail(what.str() + ": " + names[k] + " rejected a cut");
           }
           if (ex.s > 2 * margin && !said[2]) t.fail(what.str() + ": faces test missed it");
-          // The converse: a pair proved cut is one both LPs cut.
-          if (slice::surely_cuts(faces, p.plane, p.corners, p.edges, lo, hi, tol.cut, margin,
-                                 scratch)) {
+          // The converse: a pair proved cut is one both LPs cut. As the cut asks, after
+          // reject_cut (whose faces test may leave its clipped region), and from scratch.
+          slice::ClipScratch fresh;
+          const bool proved = slice::surely_cuts(faces, p.plane, p.corners, p.edges, lo, hi,
+                                                 tol.cut, margin, scratch);
+          if (proved != slice::surely_cuts(faces, p.plane, p.corners, p.edges, lo, hi, tol.cut,
+                                           margin, fresh))
+            t.fail(what.str() + ": surely_cuts answers otherwise from scratch");
+          if (proved) {
             ++t.proved;
             if (!ex.cuts || !nat.cuts) t.fail(what.str() + ": surely_cuts proved a cut");
           }

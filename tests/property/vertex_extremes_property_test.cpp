@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "cpu.hpp"
 #include "lp/vertex_extremes.hpp"
 #include "support/lp_cases.hpp"
 #include "support/support.hpp"
@@ -51,8 +52,9 @@ std::vector<Face> shifted(std::vector<Face> faces, const Vec3& shift) {
 TEST_CASE("vertex extremes: the AVX2 kernel gives the portable kernel's bits",
           "[property][lp][extents]") {
 #if defined(__x86_64__)
-  // On x86-64 the vector kernel must be the one under test, or the comparison is empty.
-  REQUIRE(__builtin_cpu_supports("avx2"));
+  // On x86-64 the vector kernel must be the one under test (an AVX2 CPU, SLICE_NO_AVX2 unset),
+  // or the comparison is empty.
+  REQUIRE(slice::use_avx2());
 #endif
   const long n = test::scaled_cases(200'000, 16);
   long answered = 0, wanted_total = 0, wrong = 0, whole = 0;

@@ -39,6 +39,10 @@ bool polygon_misses_box(std::span<const Vec3> polygon, const Vec3& lo, const Vec
 struct ClipScratch {
   std::vector<Vec3> a, b;
   std::vector<double> dist;
+  /// `a` holds the region (polygon, or plane square) clipped by every face grown by the margin:
+  /// set by faces_miss_polygon when it answers false, cleared by reject_cut, used (and cleared)
+  /// by surely_cuts, which then need not clip again.
+  bool clipped = false;
 };
 
 /// The polygon (a persistent joint: its plane's part inside the box [lo, hi]) clipped by every
@@ -52,8 +56,9 @@ bool faces_miss_polygon(std::span<const Face> faces, const Plane& plane,
 /// inside every face of the block and every edge of the polygon (`edges`, in-plane half-planes
 /// as the cut LP takes them). The LP's s* is then below -depth - margin; with depth = tol.cut,
 /// every backend answers "cut", and --certify, whose band is tol.cut, has nothing to decide
-/// again. The point tried is the mean of the corners of the region clipped by the faces and
-/// edges moved inwards by twice that; false is no answer (the LP decides).
+/// again. The point tried is the mean of the corners of the region clipped by the faces grown
+/// by the margin (scratch.a if scratch.clipped, as reject_cut's faces test left it); false is no
+/// answer (the LP decides).
 bool surely_cuts(std::span<const Face> faces, const Plane& plane, std::span<const Vec3> polygon,
                  std::span<const Plane> edges, const Vec3& lo, const Vec3& hi, double depth,
                  double margin, ClipScratch& scratch);

@@ -66,6 +66,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "../cpu.hpp"
 #include "lp_backends.hpp"
 #include "slice/error.hpp"
 
@@ -194,16 +195,6 @@ Columns copy_columns(const DenseLp& lp, std::vector<double>& buffer, bool& finit
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define SLICE_HAVE_AVX2_PATH 1
-/// Whether to use the AVX2 kernels: the CPU has AVX2 and the environment variable SLICE_NO_AVX2
-/// is not set (it selects the portable kernels, which give the same bits: the tests compare).
-bool cpu_has_avx2() {
-  static const bool has = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") != 0 && std::getenv("SLICE_NO_AVX2") == nullptr;
-  }();
-  return has;
-}
-
 /// cut_row for rows [0, count) of an array of Face or Plane (`step` doubles apart, normal then d),
 /// four at a time, into the columns d (stride n) from row `at`; returns how many it wrote (a
 /// multiple of 4; cut_rows does the rest). The same products and sums in the same order as
@@ -273,7 +264,7 @@ void cut_rows(std::span<const Item> items, const PlaneFrame& frame, double* d, i
   const int count = static_cast<int>(items.size());
   int i = 0;
 #if defined(SLICE_HAVE_AVX2_PATH)
-  if (count >= 4 && cpu_has_avx2())
+  if (count >= 4 && use_avx2())
     i = cut_rows_avx2(items.front().normal.data(), static_cast<int>(sizeof(Item) / sizeof(double)),
                       count, frame, d, n, at, ok, dmax);
 #endif
@@ -433,7 +424,7 @@ using ArgmaxRows = void (*)(const Columns&, const double*, double, double&, int&
 template <int N>
 ArgmaxRows<N> argmax_rows() {
 #if defined(SLICE_HAVE_AVX2_PATH)
-  if (cpu_has_avx2()) return &argmax_rows_avx2<N>;
+  if (use_avx2()) return &argmax_rows_avx2<N>;
 #endif
   return &argmax_rows_sse2<N>;
 }

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "../cpu.hpp"
+
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define SLICE_VERTEX_AVX2 1
@@ -247,10 +249,6 @@ __attribute__((target("avx2"))) std::array<VertexExtremes, V> avx2(std::span<con
   return s.out;
 }
 
-bool have_avx2() {
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
-}
 #endif
 
 }  // namespace
@@ -261,7 +259,7 @@ std::array<VertexExtremes, V> vertex_extremes_of(std::span<const Face> faces,
   const Search<V> s(wanted);
   if (faces.size() < 4 || faces.size() > kVertexFaces || !s.open) return s.out;
 #ifdef SLICE_VERTEX_AVX2
-  if (vector && have_avx2()) return avx2<V>(faces, s);
+  if (vector && use_avx2()) return avx2<V>(faces, s);
 #endif
   static_cast<void>(vector);
   return portable<V>(faces, s);

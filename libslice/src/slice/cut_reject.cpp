@@ -102,21 +102,21 @@ bool faces_miss_polygon(std::span<const Face> faces, const Plane& plane,
                         std::span<const Vec3> polygon, const Vec3& lo, const Vec3& hi,
                         double margin, ClipScratch& s) {
   start_region(plane, polygon, lo, hi, margin, s.a);
-  return !clip_by(faces, margin, s);
+  s.clipped = clip_by(faces, margin, s);
+  return !s.clipped;
 }
 
 bool surely_cuts(std::span<const Face> faces, const Plane& plane, std::span<const Vec3> polygon,
                  std::span<const Plane> edges, const Vec3& lo, const Vec3& hi, double depth,
                  double margin, ClipScratch& s) {
-  // The region clipped twice as deep as the proof needs, so that the mean of its corners is
-  // likely to be deep enough: only the test of that point below proves anything.
-  const double inset = depth + margin;
-  start_region(plane, polygon, lo, hi, margin, s.a);
-  if (!clip_by(edges, -2 * inset, s) || !clip_by(faces, -2 * inset, s)) return false;
+  if (!s.clipped && faces_miss_polygon(faces, plane, polygon, lo, hi, margin, s)) return false;
+  s.clipped = false;
   Vec3 x = Vec3::Zero();
   for (const Vec3& p : s.a) x += p;
   x /= static_cast<double>(s.a.size());
   x -= plane.distance(x) * plane.normal;  // back onto the plane (rounding)
+  // Only this test of the point proves anything (the region is but a way to find one).
+  const double inset = depth + margin;
   const auto deep = [&](const auto& p) { return p.normal.dot(x) - p.d < -inset; };
   return std::all_of(faces.begin(), faces.end(), deep) &&
          std::all_of(edges.begin(), edges.end(), deep);
@@ -187,6 +187,7 @@ Ball ball_in_half_space(const Ball& ball, const Plane& half, double shrink) {
 CutReject reject_cut(std::span<const Face> faces, const Plane& plane, std::span<const Vec3> polygon,
                      const Vec3& lo, const Vec3& hi, std::span<const Vec3> inside, double margin,
                      ClipScratch& scratch) {
+  scratch.clipped = false;
   if (plane_misses_box(plane, lo, hi, margin)) return CutReject::plane;
   if (polygon_misses_box(polygon, lo, hi, margin)) return CutReject::box;
   if (!(polygon.empty() && plane_splits_points(plane, inside, margin)) &&

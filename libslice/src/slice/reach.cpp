@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "../cpu.hpp"
 #include "slice/error.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -65,16 +66,12 @@ __attribute__((target("avx2"))) bool scan_avx2(const ReachQuery& q, const Sphere
   return scan_portable(q, s, i, hit);
 }
 
-bool have_avx2() {
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
-}
 #endif
 
 template <class Hit>
 bool scan(const ReachQuery& q, const SphereArrays& s, bool vector, Hit hit) {
 #ifdef SLICE_REACH_AVX2
-  if (vector && have_avx2()) return scan_avx2(q, s, hit);
+  if (vector && use_avx2()) return scan_avx2(q, s, hit);
 #endif
   static_cast<void>(vector);
   return scan_portable(q, s, 0, hit);
@@ -207,7 +204,7 @@ __attribute__((target("avx2"))) unsigned boxes_avx2(const BoxQuery& q, const dou
 unsigned GroupBoxes::may_reach(const PreparedJoint& pj, double tol, bool vector) const {
   const BoxQuery q(pj, tol);
 #ifdef SLICE_REACH_AVX2
-  if (vector && have_avx2()) return boxes_avx2(q, c_, h_, lo_, hi_, extent_) & used_;
+  if (vector && use_avx2()) return boxes_avx2(q, c_, h_, lo_, hi_, extent_) & used_;
 #endif
   static_cast<void>(vector);
   unsigned bits = 0;
@@ -223,7 +220,7 @@ unsigned GroupBoxes::may_reach(const PreparedJoint& pj, double tol, bool vector)
 
 bool reach_vectorised() {
 #ifdef SLICE_REACH_AVX2
-  return have_avx2();
+  return use_avx2();
 #else
   return false;
 #endif
