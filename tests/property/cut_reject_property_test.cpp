@@ -1,6 +1,7 @@
 // The cut's geometric shortcuts (slice/cut_reject.hpp) against the exact cut LP, on random
 // blocks and joints, degenerate ones included, and on whole random and degenerate scenes cut
 // with and without them. Fixed seeds; SLICE_PROPERTY_SCALE (support.hpp) runs a share.
+#include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
@@ -356,7 +357,8 @@ std::string lattice_scene(std::uint64_t seed) {
 
 /// Cuts with and without the shortcuts: the same blocks, bit for bit, and fewer cut LPs.
 void check_same_blocks(const std::string& scene, std::size_t& lps_with, std::size_t& lps_without,
-                       std::size_t& settled, std::size_t* by_limit = nullptr) {
+                       std::size_t& settled, std::size_t* by_limit = nullptr,
+                       std::array<std::size_t, 2>* chebyshev = nullptr) {
   const auto js = slice::generate_joints(slice::parse_scene(scene, "scene.toml"));
   slice::CutOptions with, without;
   without.use_shortcuts = false;
@@ -378,6 +380,10 @@ void check_same_blocks(const std::string& scene, std::size_t& lps_with, std::siz
   lps_without += b.stats.lps.cut_test;
   settled += s;
   if (by_limit) *by_limit += a.stats.settled_by_limit;
+  if (chebyshev) {
+    (*chebyshev)[0] += a.stats.lps.chebyshev;
+    (*chebyshev)[1] += b.stats.lps.chebyshev;
+  }
 }
 
 }  // namespace
@@ -411,27 +417,31 @@ TEST_CASE("the shortcuts change no block of degenerate lattice scenes", "[proper
 }
 
 // A pair whose split the size limit would undo, a piece between the plane and a parallel face
-// thinner than min_inscribed_diameter by the margin, skips the cut LP (settled_by_limit): the
-// blocks must be those every pair to the LP gives. The lattice scenes put planes 0.5 apart, on
-// the domain's faces and on each other's (limits 0.3, 0.5 = the step itself, 0.6, 1.1); the
-// random ones tilt them.
+// thinner than min_inscribed_diameter by the margin, skips the cut LP (settled_by_limit), and a
+// child whose ball about its centre is clear of the limit skips its Chebyshev LP: the blocks
+// must be those every pair and every child to the LP gives. The lattice scenes put planes 0.5
+// apart, on the domain's faces and on each other's (limits 0.3, 0.5 = the step itself, 0.6,
+// 1.1); the random ones tilt them.
 TEST_CASE("pairs the size limit settles before the cut LP change no block",
           "[property][cut][reject]") {
   const long n = test::scaled_cases(40);
   std::size_t with = 0, without = 0, settled = 0, by_limit = 0;
+  std::array<std::size_t, 2> chebyshev{0, 0};
   for (long seed = 1; seed <= n; ++seed)
     for (const char* min_d : {"0.3", "0.5", "0.6", "1.1"}) {
       const std::string scene = "[options]\nmin_inscribed_diameter = " + std::string(min_d) + "\n" +
                                 (seed % 2 ? lattice_scene(std::uint64_t(seed))
                                           : random_polygon_scene(std::uint64_t(seed)));
       CAPTURE(seed, scene);
-      check_same_blocks(scene, with, without, settled, &by_limit);
+      check_same_blocks(scene, with, without, settled, &by_limit, &chebyshev);
     }
   std::ostringstream summary;
   summary << without << " cut LPs without the shortcuts, " << with << " with, " << by_limit
-          << " pairs settled by the size limit";
+          << " pairs settled by the size limit; Chebyshev LPs " << chebyshev[1] << " without, "
+          << chebyshev[0] << " with";
   SUCCEED(summary.str());  // shown with -s
   CHECK(by_limit > 0);
+  CHECK(chebyshev[0] < chebyshev[1]);
 }
 
 // parallel_slab_width (slice-cut's early size limit, issue 29): a block split by a plane

@@ -304,10 +304,9 @@ class Subdivision {
   std::vector<std::uint32_t> stamp_;  // last joint (+1) that visited a block in the grid
   std::vector<std::size_t> candidates_;
 
-  std::vector<Face> child_faces_;  // early_limits' scratch
-  std::vector<Vec3> corners_;      // a joint's corners in a block's frame (frame_pair)
-  Vec3 pair_lo_, pair_hi_;         // the block's box (frame_pair)
-  double pair_margin_ = 0;         // reject_margin of the pair (frame_pair)
+  std::vector<Vec3> corners_;  // a joint's corners in a block's frame (frame_pair)
+  Vec3 pair_lo_, pair_hi_;     // the block's box (frame_pair)
+  double pair_margin_ = 0;     // reject_margin of the pair (frame_pair)
   ClipScratch clip_;
 
   /// Whether geometry may settle pairs without the cut LP (cut_reject.hpp). Not in a 2-D section
@@ -444,8 +443,9 @@ class Subdivision {
     // keeps its cuts: its thin pieces cluster with their neighbours across it.
     const bool limited = ctx_.limits && joint.limits;
     std::array<double, 2> early{-1, -1};
-    Extremes ext_below, ext_above;  // their balls from early_limits, their extremes below
-    if (limited && !early_limits(i, j, plane, referee, early, ext_below, ext_above)) {
+    std::array<bool, 2> open{false, false};  // children early_limits leaves to settled_limits
+    Extremes ext_below, ext_above;           // their balls from early_limits, their extremes below
+    if (limited && !early_limits(i, plane, referee, early, open, ext_below, ext_above)) {
       ++splits_undone;
       return false;
     }
@@ -466,7 +466,9 @@ class Subdivision {
         !set_sphere(ctx_, solver, above, lps, ext_above, v[1], &extremes[i], keep_above))
       return false;
     if (limited &&
-        (!within_limits(below, early[0], referee) || !within_limits(above, early[1], referee))) {
+        (!settled_limits(below, ext_below, open[0], early[0], referee) ||
+         !settled_limits(above, ext_above, open[1], early[1], referee) ||
+         !within_limits(below, early[0], referee) || !within_limits(above, early[1], referee))) {
       ++splits_undone;
       return false;
     }
@@ -490,15 +492,17 @@ class Subdivision {
     return true;
   }
 
-  /// The size limit decided before the children exist, from their inscribed radii in the split
-  /// block's frame (with its faces, some of which the children drop): false if a child is
-  /// surely too thin. early[k] is child k's radius (below, above), or a lower bound of it, where
-  /// it surely passes, else -1 (within_limits decides on the child). `below`, `above`: the
-  /// children's known balls (Extremes::ball), for their own splits. Only with the native backend,
-  /// and only outside twice the band in which limit_ball decides again exactly (plus 1e-7 of the
-  /// limit): there the child's own LP, a few rounding errors away, decides the same.
-  bool early_limits(std::size_t i, std::size_t j, const Plane& plane, Referee& referee,
-                    std::array<double, 2>& early, Extremes& below, Extremes& above) {
+  /// The size limit decided before the children exist, from what the split block knows: false
+  /// if a piece between the plane and a parallel face is surely too thin. early[k] is child k's
+  /// radius (below, above), or a lower bound of it, where it surely passes, else -1; open[k]:
+  /// settled_limits is to try the child once it exists. `below`, `above`: the children's known
+  /// balls (Extremes::ball, the part of the split block's ball on their side), for their own
+  /// splits. Only with the native backend, and only outside twice the band in which limit_ball
+  /// decides again exactly (plus 1e-7 of the limit): there the child's own LP, a few rounding
+  /// errors away, decides the same.
+  bool early_limits(std::size_t i, const Plane& plane, Referee& referee,
+                    std::array<double, 2>& early, std::array<bool, 2>& open, Extremes& below,
+                    Extremes& above) {
     const double min_d = ctx_.js.options.min_inscribed_diameter;
     if (ctx_.opt.backend != LpBackend::native || min_d <= 0) return true;
     const double margin = limit_margin(referee, min_d);
@@ -514,19 +518,38 @@ class Subdivision {
       const Ball kept = ball_in_half_space(extremes[i].ball, {sign * plane.normal, sign * plane.d},
                                            ctx_.tol.geometry);
       if (kept.radius > 0) child.ball = kept;
-      if (2 * kept.radius > min_d + margin) {
+      if (2 * kept.radius > min_d + margin)
         early[k] = kept.radius;
-        continue;
-      }
-      child_faces_ = blocks[i].faces;
-      child_faces_.push_back({sign * plane.normal, sign * plane.d, std::int64_t(j)});
-      const ChebyshevBall c = chebyshev_ball(referee.solver(), child_faces_, ctx_.tol);
-      ++lps.chebyshev;
-      if (c.status != LpStatus::optimal) continue;  // the child's own LP decides
-      child.ball = {c.centre, c.radius - ctx_.tol.geometry};
-      if (2 * c.radius < min_d - margin) return false;
-      if (2 * c.radius > min_d + margin) early[k] = c.radius;
+      else
+        open[k] = true;
     }
+    return true;
+  }
+
+  /// The size limit of a child early_limits left open, now that it exists (set_sphere has put its
+  /// origin at the middle of its extents): false if it is surely too thin. The ball about the
+  /// origin that touches the nearest face is inside it; if that is clear of the limit (as in
+  /// early_limits), no LP (a shortcut: not with --no-shortcuts); otherwise its Chebyshev ball
+  /// (eq. 18) decides, clear of the limit, or leaves early = -1 for within_limits. Either ball
+  /// becomes the child's known ball if larger.
+  bool settled_limits(const Block& b, Extremes& ext, bool open, double& early, Referee& referee) {
+    if (!open) return true;
+    const double min_d = ctx_.js.options.min_inscribed_diameter;
+    const double margin = limit_margin(referee, min_d);
+    double reach = std::numeric_limits<double>::infinity();  // from the origin to the nearest face
+    for (const Face& f : b.faces) reach = std::min(reach, f.d);
+    if (reach - ctx_.tol.geometry > ext.ball.radius)
+      ext.ball = {Vec3::Zero(), reach - ctx_.tol.geometry};
+    if (ctx_.opt.use_shortcuts && 2 * reach > min_d + margin) {
+      early = reach;
+      return true;
+    }
+    const ChebyshevBall c = chebyshev_ball(referee.solver(), b.faces, ctx_.tol);
+    ++lps.chebyshev;
+    if (c.status != LpStatus::optimal) return true;  // within_limits' own LP decides
+    ext.ball = {c.centre, c.radius - ctx_.tol.geometry};
+    if (2 * c.radius < min_d - margin) return false;
+    if (2 * c.radius > min_d + margin) early = c.radius;
     return true;
   }
 
