@@ -77,10 +77,13 @@ std::string problem(const Geometry& g, const Block& blk, std::size_t b, std::siz
   double enclosed = 0, area_sum = 0, perimeter_sum = 0;
   Vec3 moment = Vec3::Zero(), closure = Vec3::Zero();
   Inertia second{};
-  const auto add = [&](double w, const Vec3& r) {
-    second[0] += w * r.x() * r.x(), second[1] += w * r.y() * r.y();
-    second[2] += w * r.z() * r.z(), second[3] += w * r.x() * r.y();
-    second[4] += w * r.y() * r.z(), second[5] += w * r.z() * r.x();
+  // r r^T in Inertia's order, and second += w (sum of such).
+  const auto outer = [](const Vec3& r) -> Inertia {
+    return {r.x() * r.x(), r.y() * r.y(), r.z() * r.z(),
+            r.x() * r.y(), r.y() * r.z(), r.z() * r.x()};
+  };
+  const auto add = [&](double w, const Inertia& sum) {
+    for (std::size_t k = 0; k < 6; ++k) second[k] += w * sum[k];
   };
   for (std::size_t f = 0; f < blk.faces.size(); ++f) {
     const std::size_t face = face_row + f, file_face = base.face + face;
@@ -105,19 +108,33 @@ std::string problem(const Geometry& g, const Block& blk, std::size_t b, std::siz
       enclosed += c;
       moment += c * (a + a + e);
       // A triangle (0, a, b) of area A: integral r r^T = A / 12 (a a^T + b b^T + s s^T).
-      for (const Vec3& r : {a, Vec3(a + e), Vec3(a + a + e)}) add(c, r);
+      const Inertia ra = outer(a), rb = outer(a + e), rs = outer(a + a + e);
+      Inertia sum;
+      for (std::size_t k = 0; k < 6; ++k) sum[k] = ra[k] + rb[k] + rs[k];
+      add(c, sum);
     } else {
+      // The fan from a: each vertex's r r^T once, a's for every tetrahedron.
+      const Inertia ra = outer(a);
+      Vec3 p = a;
+      Inertia rp = ra;
       for (std::size_t k = lo; k < hi; ++k) {
-        const Vec3 p = x(g.face_vertices[k]), q = x(g.face_vertices[k + 1 < hi ? k + 1 : lo]);
-        s += p.cross(q) / 2;
+        const Vec3 q = x(g.face_vertices[k + 1 < hi ? k + 1 : lo]);
+        const Vec3 pq = p.cross(q);
+        s += pq / 2;
         perimeter += edge_length(q - p, exact);
+        const Inertia rq = outer(q);
         if (k > lo && k + 1 < hi) {
-          const double d = a.dot(p.cross(q));
+          const double d = a.dot(pq);
           enclosed += d;
           moment += d * (a + p + q);
           // A tetrahedron (0, a, p, q): integral r r^T = D / 120 (a a^T + ... + s s^T).
-          for (const Vec3& r : {a, p, q, Vec3(a + p + q)}) add(d, r);
+          const Inertia rs = outer(a + p + q);
+          Inertia sum;
+          for (std::size_t m = 0; m < 6; ++m) sum[m] = ((ra[m] + rp[m]) + rq[m]) + rs[m];
+          add(d, sum);
         }
+        p = q;
+        rp = rq;
       }
     }
     const double area = blk.faces[f].normal.dot(s);
