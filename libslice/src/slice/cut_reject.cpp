@@ -102,6 +102,16 @@ bool faces_miss_polygon(std::span<const Face> faces, const Plane& plane,
                         std::span<const Vec3> polygon, const Vec3& lo, const Vec3& hi,
                         double margin, ClipScratch& s) {
   start_region(plane, polygon, lo, hi, margin, s.a);
+  // A face with every corner outside it (the clip's distances) settles the pair without the
+  // clips by the faces before it.
+  const auto separates = [&](const Face& f) {
+    return std::all_of(s.a.begin(), s.a.end(),
+                       [&](const Vec3& x) { return f.normal.dot(x) - (f.d + margin) > 0; });
+  };
+  if (std::any_of(faces.begin(), faces.end(), separates)) {
+    s.clipped = false;
+    return true;
+  }
   s.clipped = clip_by(faces, margin, s);
   return !s.clipped;
 }
