@@ -85,11 +85,10 @@ void start_region(const Plane& plane, std::span<const Vec3> polygon, const Vec3&
     out.assign(polygon.begin(), polygon.end());
 }
 
-/// Clips s.a by n . x <= d + grow for each plane of `planes` (faces or edges): false once empty.
-template <class Planes>
-bool clip_by(const Planes& planes, double grow, ClipScratch& s) {
-  for (const auto& p : planes) {
-    const Clip c = clip(s.a, s.b, s.dist, p.normal, p.d + grow);
+/// Clips s.a by every face grown by `grow` (n . x <= d + grow): false once empty.
+bool clip_by(std::span<const Face> faces, double grow, ClipScratch& s) {
+  for (const Face& f : faces) {
+    const Clip c = clip(s.a, s.b, s.dist, f.normal, f.d + grow);
     if (c == Clip::empty) return false;
     if (c == Clip::part) std::swap(s.a, s.b);
   }
