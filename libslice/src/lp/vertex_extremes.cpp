@@ -76,10 +76,10 @@ double largest_offset(std::span<const Face> faces) {
   return dmax;
 }
 
-// The rounding slack of a vertex's inside tests: its coordinates' error grows as 1 / det.
-double inside_slack(double dmax, double det) {
-  return 16 * std::numeric_limits<double>::epsilon() * dmax / std::abs(det);
-}
+// The rounding slack of a vertex's inside tests: its coordinates' error grows as 1 / det, so the
+// slack is slack_scale(dmax) / |det|.
+double slack_scale(double dmax) { return 16 * std::numeric_limits<double>::epsilon() * dmax; }
+double inside_slack(double dmax, double det) { return slack_scale(dmax) / std::abs(det); }
 
 // One triple at a time. The variants share every vertex: reversing the last face negates its
 // normal and d, so the vertex of faces (i, j, last) is the same bits, only the sign of its last
@@ -164,7 +164,7 @@ __attribute__((target("avx2"))) std::array<VertexExtremes, V> avx2(std::span<con
   const __m256d negate = _mm256_set1_pd(-0.0);
   const __m256d min_det = _mm256_set1_pd(kMinDet);
   const __m256d below = _mm256_set1_pd(-kMultiplierSlack), above = _mm256_set1_pd(kMultiplierSlack);
-  const __m256d slack_scale = _mm256_set1_pd(16 * std::numeric_limits<double>::epsilon() * dmax);
+  const __m256d scale = _mm256_set1_pd(slack_scale(dmax));
   alignas(32) double r[9][4];  // ra, rb, rc (x, y, z each) per lane
   alignas(32) double slacks[4];
   alignas(32) std::uint64_t bits[2][4];  // proven directions per lane: variant 0, variant 1 flipped
@@ -207,14 +207,16 @@ __attribute__((target("avx2"))) std::array<VertexExtremes, V> avx2(std::span<con
               up0, _mm256_and_si256(_mm256_castpd_si256(_mm256_and_pd(ge, c_ge)), plus));
           up0 = _mm256_or_si256(
               up0, _mm256_and_si256(_mm256_castpd_si256(_mm256_and_pd(le, c_le)), minus));
-          up1 = _mm256_or_si256(
-              up1, _mm256_and_si256(_mm256_castpd_si256(_mm256_and_pd(ge, c_le)), plus));
-          up1 = _mm256_or_si256(
-              up1, _mm256_and_si256(_mm256_castpd_si256(_mm256_and_pd(le, c_ge)), minus));
+          if constexpr (V == 2) {
+            up1 = _mm256_or_si256(
+                up1, _mm256_and_si256(_mm256_castpd_si256(_mm256_and_pd(ge, c_le)), plus));
+            up1 = _mm256_or_si256(
+                up1, _mm256_and_si256(_mm256_castpd_si256(_mm256_and_pd(le, c_ge)), minus));
+          }
         }
         _mm256_store_si256(reinterpret_cast<__m256i*>(bits[0]), up0);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(bits[1]), up1);
-        _mm256_store_pd(slacks, _mm256_div_pd(slack_scale, _mm256_and_pd(det, magnitude)));
+        if constexpr (V == 2) _mm256_store_si256(reinterpret_cast<__m256i*>(bits[1]), up1);
+        _mm256_store_pd(slacks, _mm256_div_pd(scale, _mm256_and_pd(det, magnitude)));
         for (; lanes; lanes &= lanes - 1) {
           const unsigned l = unsigned(__builtin_ctz(lanes));
           const std::size_t k = k0 + l;
