@@ -2,6 +2,8 @@
 # "<tool>: error: "; a missing input FileNotFoundError; an output that cannot be written
 # OSError. Nothing is written.
 import os
+import subprocess
+import sys
 
 import pytest
 
@@ -107,3 +109,42 @@ def test_unwritable_outputs_raise_oserror(tmp_path):
     with pytest.raises(OSError, match='partial'):
         rockslice.slice(data('rock-slope.toml')).save(out)
     assert out.read_bytes() == before
+
+
+# Saves under a limit on the size of the files the process writes (RLIMIT_FSIZE: the system
+# refuses the write past it, "File too large", as a full disk refuses with "No space left on
+# device"), catches the OSError and ends as a script does.
+SAVE_UNDER_LIMIT = '''
+import resource, signal, sys
+import rockslice
+model = rockslice.slice(sys.argv[1])
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+hard = resource.getrlimit(resource.RLIMIT_FSIZE)[1]
+resource.setrlimit(resource.RLIMIT_FSIZE, (int(sys.argv[3]), hard))
+try:
+    model.save(sys.argv[2])
+    print('saved')
+except OSError as e:
+    print('refused:', e)
+'''
+
+
+def test_a_refused_save_raises_and_the_script_ends_cleanly(tmp_path):
+    # HDF5 1.10 left a file whose last flush failed open, and crashed on it at exit (SIGSEGV):
+    # the script had caught the error, yet ended with a segmentation fault.
+    scene = data('rock-slope.toml')
+    whole = tmp_path / 'whole.h5'
+    rockslice.slice(scene).save(whole)
+    size = whole.stat().st_size
+    out = tmp_path / 'b.h5'
+    for limit in [0, 2048] + [size * k // 8 for k in range(1, 8)] + [size - 1, size]:
+        r = subprocess.run([sys.executable, '-c', SAVE_UNDER_LIMIT, scene, str(out), str(limit)],
+                           capture_output=True, text=True)
+        assert r.returncode == 0, 'limit %d: exit %d, %s' % (limit, r.returncode, r.stderr)
+        assert not (tmp_path / 'b.h5.partial').exists()
+        if limit < size:
+            assert r.stdout.startswith('refused: ') and '(File too large)' in r.stdout, r.stdout
+            assert not out.exists()
+        else:
+            assert r.stdout == 'saved\n'
+            assert out.read_bytes() == whole.read_bytes()

@@ -60,9 +60,11 @@ extern "C" void on_crash(int sig) {
 }
 
 // A failed run ends here, without the exit handlers: HDF5's own (H5_term_library) closes the
-// files still open, and one a write failed on (a full disk) crashed it (SIGSEGV in
-// H5F__close_cb) after the error line. Every .partial is gone by now; nothing is left to flush
-// but our streams. Sanitizer builds return, so that LeakSanitizer still checks.
+// files still open, and one a write had failed on (a full disk) crashed it (SIGSEGV in
+// H5F__close_cb) after the error line. The writing driver (io/h5/write_driver.hpp) now keeps
+// such failures from HDF5, so none is left open; this stays as a guard against any other.
+// Every .partial is gone by now; nothing is left to flush but our streams. Sanitizer builds
+// return, so that LeakSanitizer still checks.
 int end_failed(int code) {
 #ifndef __SANITIZE_ADDRESS__
   std::cout.flush();

@@ -12,54 +12,25 @@
 #include <string>
 #include <vector>
 
+#include "posix_io.hpp"
+
 namespace slice::h5 {
 
 namespace {
 
-// The largest address a pread offset can hold, as HDF5's sec2 driver has it.
-constexpr haddr_t kMaxAddr = (haddr_t{1} << (8 * sizeof(off_t) - 1)) - 1;
 // The end of a local heap's free list (H5HL_FREE_NULL in HDF5's H5HLprivate.h).
 constexpr std::uint64_t kFreeNull = 1;
 
-struct CheckedFile {
-  H5FD_t pub;  // first: HDF5 hands this pointer back to every callback
-  int fd = -1;
-  dev_t dev = 0;
-  ino_t ino = 0;
-  haddr_t eoa = 0;
-  haddr_t eof = 0;
+struct CheckedFile : PosixFile {
   unsigned offsets = 0;  // bytes of an address and of a length in this file (its superblock);
   unsigned lengths = 0;  // 0: not known, nothing is checked
   std::vector<haddr_t> heaps_checked;
 };
 
-CheckedFile* cast(H5FD_t* f) { return reinterpret_cast<CheckedFile*>(f); }
-const CheckedFile* cast(const H5FD_t* f) { return reinterpret_cast<const CheckedFile*>(f); }
+CheckedFile* cast(H5FD_t* f) { return static_cast<CheckedFile*>(posix(f)); }
 
-// Pushes msg on HDF5's error stack, under the call that failed; h5.cpp's reason() shows it.
 herr_t fail(const char* func, const std::string& msg) {
-  H5Epush2(H5E_DEFAULT, __FILE__, func, __LINE__, H5E_ERR_CLS, H5E_VFL, H5E_READERROR, "%s",
-           msg.c_str());
-  return -1;
-}
-
-// Reads [addr, addr + size) of the file; bytes past its end read as zeros (as sec2 does).
-bool read_at(int fd, haddr_t addr, std::size_t size, unsigned char* out) {
-  while (size > 0) {
-    const std::size_t chunk = std::min<std::size_t>(size, std::size_t{1} << 30);
-    const ssize_t n = pread(fd, out, chunk, static_cast<off_t>(addr));
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) return false;
-    if (n == 0) {
-      std::memset(out, 0, size);
-      return true;
-    }
-    const auto got = static_cast<std::size_t>(n);
-    out += got;
-    addr += got;
-    size -= got;
-  }
-  return true;
+  return push_error(func, H5E_READERROR, msg);
 }
 
 // A little-endian unsigned field of n bytes; all ones if it does not fit 64 bits.
@@ -141,32 +112,15 @@ H5FD_t* open_file(const char* name, unsigned flags, hid_t /*fapl*/, haddr_t maxa
     fail("open_file", "this driver only reads files");
     return nullptr;
   }
-  if (maxaddr == 0 || maxaddr == HADDR_UNDEF || maxaddr > kMaxAddr) {
-    fail("open_file", "bad maximum address");
-    return nullptr;
-  }
-  const int fd = ::open(name, O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    fail("open_file", std::string("cannot open the file: ") + std::strerror(errno));
-    return nullptr;
-  }
-  struct stat st {};
-  if (fstat(fd, &st) != 0) {
-    const std::string why = std::strerror(errno);
-    ::close(fd);
-    fail("open_file", "cannot stat the file: " + why);
-    return nullptr;
-  }
+  PosixFile opened;
+  if (!open_posix(name, O_RDONLY, maxaddr, opened)) return nullptr;
   auto* cf = new (std::nothrow) CheckedFile();
   if (cf == nullptr) {
-    ::close(fd);
+    ::close(opened.fd);
     fail("open_file", "out of memory");
     return nullptr;
   }
-  cf->fd = fd;
-  cf->dev = st.st_dev;
-  cf->ino = st.st_ino;
-  cf->eof = static_cast<haddr_t>(st.st_size);
+  static_cast<PosixFile&>(*cf) = opened;
   read_superblock_sizes(*cf);
   return &cf->pub;
 }
@@ -178,33 +132,10 @@ herr_t close_file(H5FD_t* f) {
   return r == 0 ? 0 : fail("close_file", "cannot close the file");
 }
 
-int compare(const H5FD_t* a, const H5FD_t* b) {
-  const CheckedFile *x = cast(a), *y = cast(b);
-  if (x->dev != y->dev) return x->dev < y->dev ? -1 : 1;
-  if (x->ino != y->ino) return x->ino < y->ino ? -1 : 1;
-  return 0;
-}
-
 // No metadata accumulation: each metadata read reaches read_file as HDF5 asked for it, with its
 // type, so a local heap's prefix arrives at the start of a buffer.
 herr_t query(const H5FD_t* /*f*/, unsigned long* flags) {
   if (flags != nullptr) *flags = H5FD_FEAT_AGGREGATE_METADATA | H5FD_FEAT_DATA_SIEVE;
-  return 0;
-}
-
-haddr_t get_eoa(const H5FD_t* f, H5FD_mem_t /*type*/) { return cast(f)->eoa; }
-
-herr_t set_eoa(H5FD_t* f, H5FD_mem_t /*type*/, haddr_t addr) {
-  if (addr > kMaxAddr) return fail("set_eoa", "address overflow");
-  cast(f)->eoa = addr;
-  return 0;
-}
-
-haddr_t get_eof(const H5FD_t* f, H5FD_mem_t /*type*/) { return cast(f)->eof; }
-
-herr_t get_handle(H5FD_t* f, hid_t /*fapl*/, void** handle) {
-  if (handle == nullptr) return fail("get_handle", "no handle pointer");
-  *handle = &cast(f)->fd;
   return 0;
 }
 
@@ -231,24 +162,14 @@ herr_t write_file(H5FD_t* /*f*/, H5FD_mem_t /*type*/, hid_t /*dxpl*/, haddr_t /*
 herr_t nothing_to_do(H5FD_t* /*f*/, hid_t /*dxpl*/, hbool_t /*closing*/) { return 0; }
 
 H5FD_class_t make_class() {
-  H5FD_class_t c{};
-  c.name = "rockslice-checked";
-  c.maxaddr = kMaxAddr;
-  c.fc_degree = H5F_CLOSE_WEAK;
+  H5FD_class_t c = posix_class("rockslice-checked");
   c.open = open_file;
   c.close = close_file;
-  c.cmp = compare;
   c.query = query;
-  c.get_eoa = get_eoa;
-  c.set_eoa = set_eoa;
-  c.get_eof = get_eof;
-  c.get_handle = get_handle;
   c.read = read_file;
   c.write = write_file;
   c.flush = nothing_to_do;
   c.truncate = nothing_to_do;
-  const H5FD_mem_t map[] = H5FD_FLMAP_DICHOTOMY;
-  std::copy(std::begin(map), std::end(map), std::begin(c.fl_map));
   return c;
 }
 

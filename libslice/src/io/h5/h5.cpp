@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <cstring>
 #include <system_error>
 #include <type_traits>
 
@@ -12,6 +13,7 @@
 #include "slice/error.hpp"
 #include "slice/h5io.hpp"
 #include "slice/output.hpp"
+#include "write_driver.hpp"
 
 namespace slice::h5 {
 
@@ -62,6 +64,13 @@ std::string reason() {
 // A failed HDF5 call: the message carries HDF5's reason.
 [[noreturn]] void fail_h5(const Context& ctx, const std::string& what) {
   throw Error(ctx.file, what + reason(), ctx.fix);
+}
+
+// A write the system refused since the file was created (write_driver.hpp): HDF5 was told it went
+// well, so the call that made it (or a later one, where HDF5 wrote from its caches) succeeded.
+void check_written(const Context& ctx, const std::string& what) {
+  if (ctx.written && ctx.written->error != 0)
+    throw Error(ctx.file, what + " (" + std::strerror(ctx.written->error) + ")", ctx.fix);
 }
 
 // Checks the result of an H5* call: ids and herr_t/htri_t are negative on failure.
@@ -345,6 +354,7 @@ void RowWriter<T>::write_rows(const T* data, std::size_t rows) {
       select_rows(ds_, next_, rows, rank_, width, ctx_, "cannot write " + path_);
   check(H5Dwrite(ds_.id(), Traits<T>::mem(), sel.memory.id(), sel.file.id(), H5P_DEFAULT, data),
         ctx_, "cannot write " + path_);
+  check_written(ctx_, "cannot write " + path_);
   next_ += rows;
 }
 
@@ -382,6 +392,7 @@ void RowWriter<T>::finish() {
     SLICE_ASSERT(next_ == rows_);
   }
   if (!ds_.reset()) fail_h5(ctx_, "cannot write " + path_);
+  check_written(ctx_, "cannot write " + path_);
 }
 
 template <class T>
@@ -567,12 +578,14 @@ void Group::write_attribute(const std::string& name, const T& value) const {
             Handle::Type::attribute, ctx_, what);
     check(H5Awrite(a.id(), type.id(), value.c_str()), ctx_, what);
     if (!a.reset()) fail_h5(ctx_, what);
+    check_written(ctx_, what);
   } else {
     Handle a = own(H5Acreate2(handle_.id(), name.c_str(), Traits<T>::file(), space.id(),
                               H5P_DEFAULT, H5P_DEFAULT),
                    Handle::Type::attribute, ctx_, what);
     check(H5Awrite(a.id(), Traits<T>::mem(), &value), ctx_, what);
     if (!a.reset()) fail_h5(ctx_, what);
+    check_written(ctx_, what);
   }
 }
 
@@ -637,13 +650,22 @@ SLICE_H5_ATTRIBUTE(double)
 
 // --- File ------------------------------------------------------------------------------------
 
+std::size_t open_objects() {
+  const ssize_t n = H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL);
+  return n < 0 ? 0 : static_cast<std::size_t>(n);
+}
+
 File File::create(const fs::path& path, Context ctx) {
   silence();
   const std::string what = "cannot create the file " + path.string();
   // The root group is made with the file: no time stamps there either.
   Handle fcpl = own(H5Pcreate(H5P_FILE_CREATE), Handle::Type::plist, ctx, what);
   check(H5Pset_obj_track_times(fcpl.id(), false), ctx, what);
-  Handle f = own(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.id(), H5P_DEFAULT), Handle::Type::file,
+  // Through the writing driver (write_driver.hpp): a full disk must not leave HDF5 unable to
+  // close the file.
+  ctx.written = std::make_shared<WriteFailure>();
+  Handle fapl = own(writing_fapl(ctx.written.get()), Handle::Type::plist, ctx, what);
+  Handle f = own(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.id(), fapl.id()), Handle::Type::file,
                  ctx, what);
   settle_truncation(path);
   Handle root = own(H5Gopen2(f.id(), "/", H5P_DEFAULT), Handle::Type::group, ctx, what);
@@ -693,6 +715,7 @@ void File::close() {
   const Context ctx = root_.ctx_;
   root_.handle_.reset();
   if (!file_.reset()) fail_h5(ctx, "cannot close the file (flushing its content failed)");
+  check_written(ctx, "cannot write the file");
 }
 
 }  // namespace slice::h5

@@ -18,6 +18,8 @@
 #include <utility>
 #include <vector>
 
+#include "write_driver.hpp"
+
 namespace slice::h5 {
 
 namespace fs = std::filesystem;
@@ -25,6 +27,10 @@ namespace fs = std::filesystem;
 /// HDF5 prints its error stack to stderr unless told not to, once per thread: a thread other
 /// than the one that opened the file calls this before its first HDF5 call.
 void silence_thread();
+
+/// The HDF5 objects (files, groups, datasets, ...) open in this process: 0 once every file is
+/// closed, also after a write that failed (tests).
+std::size_t open_objects();
 
 /// hid_t of HDF5 1.10 (h5.cpp checks they agree).
 using Id = std::int64_t;
@@ -35,6 +41,9 @@ struct Context {
   std::string fix;   // the fix in messages
   /// Writing: datasets chunked, shuffled and deflated (level 4), not contiguous and plain.
   bool compress = false;
+  /// Writing: what the file's driver saw (write_driver.hpp), shared by every handle of the file;
+  /// a write the system refused is reported by the wrapper's next write or by File::close.
+  std::shared_ptr<WriteFailure> written = nullptr;
 };
 
 /// Owns one HDF5 identifier and closes it with the matching H5*close.
@@ -217,8 +226,12 @@ class File {
 
  private:
   File(Handle file, Group root, ReadingMark mark = {})
-      : mark_(std::move(mark)), file_(std::move(file)), root_(std::move(root)) {}
-  ReadingMark mark_;  // destroyed last: HDF5 reads until the file is closed
+      : mark_(std::move(mark)),
+        written_(root.ctx_.written),
+        file_(std::move(file)),
+        root_(std::move(root)) {}
+  ReadingMark mark_;                       // destroyed last: HDF5 reads until the file is closed
+  std::shared_ptr<WriteFailure> written_;  // outlives file_: its driver writes to it
   Handle file_;
   Group root_;  // closed before file_ (members are destroyed in reverse order)
 };
