@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <new>
 #include <string>
 #include <vector>
 
@@ -114,13 +113,8 @@ H5FD_t* open_file(const char* name, unsigned flags, hid_t /*fapl*/, haddr_t maxa
   }
   PosixFile opened;
   if (!open_posix(name, O_RDONLY, maxaddr, opened)) return nullptr;
-  auto* cf = new (std::nothrow) CheckedFile();
-  if (cf == nullptr) {
-    ::close(opened.fd);
-    fail("open_file", "out of memory");
-    return nullptr;
-  }
-  static_cast<PosixFile&>(*cf) = opened;
+  auto* cf = adopt<CheckedFile>(opened);
+  if (cf == nullptr) return nullptr;
   read_superblock_sizes(*cf);
   return &cf->pub;
 }
@@ -142,7 +136,7 @@ herr_t query(const H5FD_t* /*f*/, unsigned long* flags) {
 herr_t read_file(H5FD_t* f, H5FD_mem_t type, hid_t /*dxpl*/, haddr_t addr, std::size_t size,
                  void* buffer) {
   CheckedFile* cf = cast(f);
-  if (addr == HADDR_UNDEF || addr > kMaxAddr || size > kMaxAddr - addr || addr + size > cf->eoa)
+  if (!allocated(*cf, addr, size))
     return fail("read_file", "address past the end of the file's allocation");
   auto* out = static_cast<unsigned char*>(buffer);
   if (!read_at(cf->fd, addr, size, out))

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstring>
 #include <iterator>
+#include <new>
 #include <string>
 
 namespace slice::h5 {
@@ -103,6 +104,26 @@ inline bool open_posix(const char* name, int oflags, haddr_t maxaddr, PosixFile&
   f.ino = st.st_ino;
   f.eof = static_cast<haddr_t>(st.st_size);
   return true;
+}
+
+// A driver's file of type F (a PosixFile with more) holding the file `opened` opened; null, the
+// file closed and an error pushed, if there is no memory for it.
+template <class F>
+F* adopt(const PosixFile& opened) {
+  auto* f = new (std::nothrow) F();
+  if (f == nullptr) {
+    ::close(opened.fd);
+    push_error("open_file", H5E_CANTALLOC, "out of memory");
+    return nullptr;
+  }
+  static_cast<PosixFile&>(*f) = opened;
+  return f;
+}
+
+// Whether [addr, addr + size) lies inside HDF5's allocation of the file: outside is HDF5's own
+// error (or a damaged file's).
+inline bool allocated(const PosixFile& f, haddr_t addr, std::size_t size) {
+  return addr != HADDR_UNDEF && addr <= kMaxAddr && size <= kMaxAddr - addr && addr + size <= f.eoa;
 }
 
 namespace posix_callbacks {

@@ -6,7 +6,6 @@
 
 #include <cerrno>
 #include <cstring>
-#include <new>
 #include <string>
 
 #include "posix_io.hpp"
@@ -38,13 +37,8 @@ H5FD_t* open_file(const char* name, unsigned flags, hid_t fapl, haddr_t maxaddr)
   if ((flags & H5F_ACC_EXCL) != 0) oflags |= O_EXCL;
   PosixFile opened;
   if (!open_posix(name, oflags, maxaddr, opened)) return nullptr;
-  auto* wf = new (std::nothrow) WritingFile();
-  if (wf == nullptr) {
-    ::close(opened.fd);
-    push_error("open_file", H5E_CANTALLOC, "out of memory");
-    return nullptr;
-  }
-  static_cast<PosixFile&>(*wf) = opened;
+  auto* wf = adopt<WritingFile>(opened);
+  if (wf == nullptr) return nullptr;
   wf->failure = *info;
   return &wf->pub;
 }
@@ -64,12 +58,6 @@ herr_t query(const H5FD_t* /*f*/, unsigned long* flags) {
              H5FD_FEAT_AGGREGATE_SMALLDATA | H5FD_FEAT_POSIX_COMPAT_HANDLE |
              H5FD_FEAT_SUPPORTS_SWMR_IO | H5FD_FEAT_DEFAULT_VFD_COMPATIBLE;
   return 0;
-}
-
-// Whether [addr, addr + size) lies inside HDF5's allocation: outside is HDF5's own error.
-bool allocated(const WritingFile& wf, haddr_t addr, std::size_t size) {
-  return addr != HADDR_UNDEF && addr <= kMaxAddr && size <= kMaxAddr - addr &&
-         addr + size <= wf.eoa;
 }
 
 herr_t read_file(H5FD_t* f, H5FD_mem_t /*type*/, hid_t /*dxpl*/, haddr_t addr, std::size_t size,
