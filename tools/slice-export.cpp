@@ -58,6 +58,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   t.cli.add_option("--yade-damping", yade.damping, "yade: NewtonIntegrator damping")
       ->capture_default_str();
+  std::string law = "mohr-coulomb";
+  t.cli
+      .add_option("--yade-law", law,
+                  "yade: contact law, mohr-coulomb (each contact its joint's strength and own "
+                  "shear) | volumetric (YADE's own: shear shared by all contacts)")
+      ->capture_default_str();
   t.cli
       .add_option("--pb-rounding", yade.pb_rounding,
                   "yade-potential-blocks: rounding radius / inscribed radius")
@@ -94,6 +100,9 @@ int main(int argc, char** argv) {
                                 {"-o", out},
                                 {"--joints", joints},
                                 {"--3dec-commands", commands}});
+    if (law != "mohr-coulomb" && law != "volumetric")
+      throw slice::Error("--yade-law", "is '" + law + "'", "use mohr-coulomb or volumetric");
+    yade.law = law == "volumetric" ? slice::YadeLaw::volumetric : slice::YadeLaw::mohr_coulomb;
     yade.validate();
     tdec.validate();
     const auto vtu_compressor = slice::parse_vtu_compressor(compressor, "--vtu-compressor");
@@ -151,6 +160,18 @@ int main(int argc, char** argv) {
     t.say(std::to_string(st.bodies) + " bodies (" + std::to_string(st.fixed) + " fixed, " +
           std::to_string(st.clumps) + " clumps; " + std::to_string(st.removed) +
           " removed blocks left out) -> " + out);
+    if (yade.shape == slice::YadeShape::polyhedra)
+      t.say(yade.law == slice::YadeLaw::volumetric
+                ? std::string("contact law: YADE's volumetric law alone, one friction angle per "
+                              "block; WARNING: in YADE 2023.02a its shear force is shared by all "
+                              "contacts, so friction is wrong for a body with two or more")
+                : "contact law: mohr-coulomb per contact (" + std::to_string(st.contacts) +
+                      " joint contacts, " + std::to_string(st.bridges) +
+                      " rock bridges, each its joint's friction, cohesion and tension)");
+    else
+      t.say(
+          "contact law: PotentialBlock's KnKsPB law (per interaction), one friction angle per "
+          "block");
     t.say(tool::smallest_bodies_line(st.dem) + " -> O.dt = " + tool::sig(st.timestep, 4) + " s (" +
           tool::sig(yade.timestep_factor, 3) + " x the critical step, density " +
           tool::sig(yade.density, 6) + ", young " + tool::sig(yade.young, 6) + ")");

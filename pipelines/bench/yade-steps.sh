@@ -8,6 +8,8 @@
 #   export       the model as slice-export writes it now
 #   gap-only     INITIAL_GAP as exported, NOT_AMONG_FIXED = 0   (1k box only: what each
 #   fixed-pairs  INITIAL_GAP = 0, NOT_AMONG_FIXED as exported    change is worth)
+#   volumetric   the model as exported, LAW = 'volumetric' (YADE's own contact law alone, as
+#                exported before issue 40): against `export`, the cost of the per-contact law
 # Each run builds the model, runs WARMUP steps, then times STEPS steps (fewer for larger
 # models, so that a run stays within minutes). Then the 1k box's touching and exported models
 # run 150 steps of settling, timed every 10 (yade-settle.py). Writes results/yade-steps.csv,
@@ -46,14 +48,16 @@ model() {
 
 # variant <dir> <name>: dir/<name>.py from dir/model.py.
 variant() {
-  local gap=1 pairs=1
+  local gap=1 pairs=1 law=
   case $2 in
+    volumetric) law="s/^LAW = .*/LAW = 'volumetric'/" ;;
     touching) gap=0 pairs=0 ;;
     gap-only) pairs=0 ;;
     fixed-pairs) gap=0 ;;
   esac
   sed -e "$([ $gap = 1 ] || echo 's/^INITIAL_GAP = .*/INITIAL_GAP = 0/')" \
       -e "$([ $pairs = 1 ] || echo 's/^NOT_AMONG_FIXED = .*/NOT_AMONG_FIXED = 0/')" \
+      -e "${law:-s/^LAW = /LAW = /}" \
       "$1/model.py" >"$1/$2.py"
 }
 

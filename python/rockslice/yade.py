@@ -37,12 +37,15 @@ class Bodies:
                                                                   len(self.clump_of_cluster))
 
 
-def build(model, steps=0, engines=True, initial_gap=_rockslice.YADE_INITIAL_GAP, **options):
+def build(model, steps=0, engines=True, initial_gap=_rockslice.YADE_INITIAL_GAP,
+          law='mohr-coulomb', **options):
     """Adds the model's blocks to YADE's scene (O) as the exported script does; returns Bodies.
 
     model: a rockslice.Model with vertices (stage 'geometry'); steps: run this many steps of the
     settling run at the end; engines=False leaves O.engines and O.dt alone; initial_gap: each
     body is its block scaled by 1 - initial_gap about its centroid (0: the blocks as they are);
+    law: the contact law, 'mohr-coulomb' (each contact its joint's strength and its own shear
+    force) or 'volumetric' (YADE's own law alone; slice-export's --yade-law);
     options: density, young, poisson, default_friction, damping, gravity, timestep_factor
     (DEFAULTS). Raises rockslice.Error for a bad option or a model without vertices.
     """
@@ -64,6 +67,8 @@ def build(model, steps=0, engines=True, initial_gap=_rockslice.YADE_INITIAL_GAP,
                                .replace('--yade-', '')) from None
     if not 0 <= initial_gap < 1:
         raise _rockslice.Error('initial_gap: is %r; give a fraction in [0, 1)' % (initial_gap,))
+    if law not in ('mohr-coulomb', 'volumetric'):
+        raise _rockslice.Error("law: is %r; give 'mohr-coulomb' or 'volumetric'" % (law,))
     rows = model._yade_rows(opt['default_friction'])
     ns = {
         '__name__': 'rockslice_yade_model',
@@ -79,6 +84,8 @@ def build(model, steps=0, engines=True, initial_gap=_rockslice.YADE_INITIAL_GAP,
         'TIMESTEP_FACTOR': opt['timestep_factor'],
         'INITIAL_GAP': float(initial_gap),
         'SHAPE': 'polyhedra',
+        'LAW': law,
+        'CONTACTS': model._yade_contacts(),
         'SECTION': model.dimension == 2,
         'ENGINES': bool(engines),
     }

@@ -15,6 +15,12 @@
 #            export's options; see the constants of model.py
 #   SECTION  True for a 2-D section (docs/2d.md; polyhedra only): bodies move in (x, z) only
 #   ENGINES  True: set O.engines and O.dt (the export always does)
+#   CONTACTS one row per contact of two kept blocks across a joint (polyhedra): (block a,
+#            block b, friction angle [deg], cohesion [Pa], tension [Pa], area, centroid, normal
+#            from a to b); LAW 'mohr-coulomb' gives each its joint's strength (docs/dem-exports.md)
+#   LAW      'mohr-coulomb' (polyhedra: rockslice's per-contact law) or 'volumetric' (YADE's own
+#            Law2_PolyhedraGeom_PolyhedraPhys_Volumetric alone: its shear is wrong for a body with
+#            two or more contacts)
 import math
 import time
 from yade import *  # noqa: F401,F403 (the names YADE gives every script)
@@ -42,10 +48,21 @@ if SHAPE == 'polyhedra':
     # again.
     FREE_MASK, FIXED_MASK = 1, 3
     NOT_AMONG_FIXED = 2  # the collider's avoidSelfInteractionMask
+    # LAW 'mohr-coulomb': YADE's volumetric law gives the normal force only (friction angle 0:
+    # its shear force is one for all contacts, docs/dem-exports.md), one material for all bodies;
+    # the engine below (mohr_coulomb) adds each contact's shear and bond. 'volumetric': one
+    # material per block with the block's friction angle, as YADE's law alone needs.
+    shared_mat = None
+    if LAW == 'mohr-coulomb':
+        shared_mat = PolyhedraMat(young=YOUNG, poisson=POISSON, frictionAngle=0.0,
+                                  density=DENSITY / SHRINK ** 3, label='rock')
+        O.materials.append(shared_mat)
     for i, (block, fixed, phi, cluster, volume, centroid, vertices) in enumerate(BLOCKS):
-        mat = PolyhedraMat(young=YOUNG, poisson=POISSON, frictionAngle=math.radians(phi),
-                           density=DENSITY / SHRINK ** 3, label='block-%d' % block)
-        O.materials.append(mat)
+        mat = shared_mat
+        if mat is None:
+            mat = PolyhedraMat(young=YOUNG, poisson=POISSON, frictionAngle=math.radians(phi),
+                               density=DENSITY / SHRINK ** 3, label='block-%d' % block)
+            O.materials.append(mat)
         grey = 0.35 if fixed else 0.75
         c = Vector3(centroid)
         shape = [c + SHRINK * (Vector3(p) - c) for p in vertices] if INITIAL_GAP else vertices
@@ -131,6 +148,8 @@ if ENGINES and SHAPE == 'polyhedra':
             [Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys()],
             [Law2_PolyhedraGeom_PolyhedraPhys_Volumetric()],
         ),
+    ] + ([PyRunner(iterPeriod=1, command='rockslice_contact_law()', label='contact_law')]
+         if LAW == 'mohr-coulomb' else []) + [
         NewtonIntegrator(damping=DAMPING, gravity=(0, 0, -GRAVITY), label='newton'),
     ]
 elif ENGINES:
@@ -150,6 +169,135 @@ elif ENGINES:
     ]
 if ENGINES:
     O.dt = TIMESTEP_FACTOR * math.sqrt(DENSITY * smallest ** (1.0 / 3) / YOUNG)
+
+# LAW 'mohr-coulomb' (docs/dem-exports.md, "The contact law"): each contact keeps its own shear
+# force and has its joint's strength. YADE's volumetric law (friction angle 0) gives the normal
+# force Fn = kn x penetration volume along PolyhedraGeom's normal; this engine, run after it in
+# every step, gives the shear force of each contact: Cundall's incremental spring, rotated with
+# the contact, Fs <- Fs - ks A du (du: PolyhedraGeom.shearInc, A: the contact's area), limited by
+# Fn tan(phi) + c A while the contact is bonded and Fn tan(phi) once it has slipped. A contact of
+# the model (CONTACTS) starts bonded when its joint has cohesion or tension: the bond is a spring
+# between the two blocks at the contact's centroid, normal kn A and shear ks A, that holds
+# tension up to t A (if t > 0) and shear up to c A + Fn tan(phi) (if c > 0), and breaks for good
+# past either; while it holds, a bond with cohesion carries the contact's shear. kn, ks: the volumetric law's (YOUNG / 2, POISSON x YOUNG
+# / 2 per unit area and displacement).
+KN = YOUNG / 2.0
+KS = POISSON * YOUNG / 2.0
+# The model starts with no stress: gravity comes on at once, and a bond loaded at once swings to
+# about twice its static load. So bonds cannot break for the first BOND_SETTLE seconds, ten
+# periods sqrt(m / k) x 2 pi of the largest body that moves (NewtonIntegrator's damping takes the
+# swing out by then); past it, a bond breaks as soon as its load passes its strength.
+largest = max(moving) if moving else 1.0
+BOND_SETTLE = 10 * 2 * math.pi * math.sqrt(DENSITY * largest ** (1.0 / 3) / KN)
+# A contact CONTACTS does not list (made later as blocks move, or in a 2-D section, which has no
+# CONTACTS) has the smaller of its two blocks' friction angles (BLOCKS), no cohesion, no tension.
+tan_of_body = {body_of_block[row[0]]: math.tan(math.radians(row[2])) for row in BLOCKS}
+contact_of_pair = {}   # (body id1, body id2), id1 < id2 -> (tan phi, cohesion, tension, area)
+shear_of_pair = {}     # the shear force on body id2 of each touching contact (on id1: minus it)
+bond_of_pair = {}      # the bonds that hold: [id1, id2, point in id1, point in id2, normal in id1]
+if SHAPE == 'polyhedra' and LAW == 'mohr-coulomb':
+    def _local(body, x):
+        st = O.bodies[body].state
+        return st.ori.conjugate() * (x - st.pos)
+    for (a, b, phi, cohesion, tension, area, centroid, normal) in CONTACTS:
+        if a not in body_of_block or b not in body_of_block:
+            continue
+        ia, ib = body_of_block[a], body_of_block[b]
+        if O.bodies[ia].isClumpMember and O.bodies[ia].clumpId == O.bodies[ib].clumpId:
+            continue  # one rigid body
+        n = Vector3(normal)
+        if ia > ib:
+            ia, ib, n = ib, ia, -n
+        contact_of_pair[(ia, ib)] = (math.tan(math.radians(phi)), cohesion, tension, area)
+        if (cohesion > 0 or tension > 0) and not (O.bodies[ia].state.blockedDOFs == 'xyzXYZ' and
+                                                    O.bodies[ib].state.blockedDOFs == 'xyzXYZ'):
+            x = Vector3(centroid)
+            bond_of_pair[(ia, ib)] = [ia, ib, _local(ia, x), _local(ib, x),
+                                      O.bodies[ia].state.ori.conjugate() * n]
+
+
+def _typical_area(i1, i2):
+    # A contact the model does not list: the smaller body's V^(2/3) stands for its area.
+    return min(O.bodies[i].shape.GetVolume() for i in (i1, i2)) ** (2.0 / 3)
+
+
+def mohr_coulomb():
+    forces = O.forces
+    bodies = O.bodies
+    touching = set()
+    for I in O.interactions:
+        g = I.geom
+        key = (I.id1, I.id2)
+        if not (g.equivalentPenetrationDepth > 1e-18 and g.penetrationVolume > 0):
+            continue
+        touching.add(key)
+        if key in bond_of_pair and contact_of_pair[key][1] > 0:
+            continue  # a bond with cohesion carries the shear (below)
+        props = contact_of_pair.get(key)
+        if props is None:
+            props = contact_of_pair[key] = (min(tan_of_body[key[0]], tan_of_body[key[1]]), 0.0,
+                                            0.0, _typical_area(*key))
+        n = g.normal
+        fs = shear_of_pair.get(key)
+        if fs is None:
+            fs = Vector3(0, 0, 0)
+        else:  # rotate with the contact (PolyhedraGeom.rotate)
+            fs = fs - fs.cross(g.orthonormal_axis)
+            fs = fs - fs.cross(g.twist_axis)
+            fs = fs - n.dot(fs) * n
+        fs = fs - (KS * props[3]) * g.shearInc
+        limit = I.phys.normalForce.norm() * props[0]
+        size = fs.norm()
+        if size > limit:
+            fs = fs * (limit / size)
+        shear_of_pair[key] = fs
+        cp = g.contactPoint
+        forces.addF(I.id1, -fs)
+        forces.addF(I.id2, fs)
+        forces.addT(I.id1, (cp - bodies[I.id1].state.pos).cross(-fs))
+        forces.addT(I.id2, (cp - bodies[I.id2].state.pos).cross(fs))
+    for key in [k for k in shear_of_pair if k not in touching]:
+        del shear_of_pair[key]  # apart: a new touch starts from no shear
+    broken = []
+    settled = O.time >= BOND_SETTLE
+    for key, (i1, i2, p1, p2, n1) in bond_of_pair.items():
+        s1, s2 = bodies[i1].state, bodies[i2].state
+        x1 = s1.pos + s1.ori * p1
+        x2 = s2.pos + s2.ori * p2
+        n = s1.ori * n1
+        d = x2 - x1                      # how far the bond's two ends have moved apart
+        tan_phi, cohesion, tension, area = contact_of_pair[key]
+        opening = d.dot(n)
+        f = Vector3(0, 0, 0)             # the bond's force on body 2
+        if opening > 0 and tension > 0:
+            fn = KN * area * opening     # tension
+            if settled and fn > tension * area:
+                broken.append(key)
+                continue
+            f = -fn * n
+        if cohesion > 0:
+            compression = 0.0
+            if key in touching:
+                compression = O.interactions[i1, i2].phys.normalForce.norm()
+            fs = -(KS * area) * (d - opening * n)
+            if settled and fs.norm() > cohesion * area + compression * tan_phi:
+                broken.append(key)
+                continue
+            f = f + fs
+        xm = 0.5 * (x1 + x2)
+        forces.addF(i1, -f)
+        forces.addF(i2, f)
+        forces.addT(i1, (xm - s1.pos).cross(-f))
+        forces.addT(i2, (xm - s2.pos).cross(f))
+    for key in broken:
+        del bond_of_pair[key]  # for good: friction alone from now on
+
+
+if SHAPE == 'polyhedra' and LAW == 'mohr-coulomb':
+    # PyRunner runs its command in __main__'s namespace, which is not this program's when
+    # rockslice.yade.build() runs it.
+    import __main__
+    __main__.rockslice_contact_law = mohr_coulomb
 
 if STEPS > 0:
     # Step progress: 20 lines over the run. (The command runs in YADE's own namespace: it

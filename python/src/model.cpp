@@ -271,6 +271,20 @@ py::list yade_rows(const Model& m, double default_friction_deg) {
   return rows;
 }
 
+// The rows of the exported YADE script's CONTACTS list (slice::yade_contacts): (block a, block
+// b, friction [deg], cohesion [Pa], tension [Pa], area, centroid, normal from a to b).
+py::list yade_contact_rows(const Model& m) {
+  if (!m.bs->geometry)
+    throw slice::Error("model", "has no vertices (no /geometry)",
+                       "compute them first: rockslice.vertices(model)");
+  py::list rows;
+  for (const slice::YadeContact& c : slice::yade_contacts(*m.bs))
+    rows.append(py::make_tuple(c.a, c.b, c.friction_deg, c.cohesion, c.tension, c.area,
+                               py::make_tuple(c.centroid.x(), c.centroid.y(), c.centroid.z()),
+                               py::make_tuple(c.normal.x(), c.normal.y(), c.normal.z())));
+  return rows;
+}
+
 }  // namespace
 
 void bind_model(py::module_& m) {
@@ -482,6 +496,7 @@ vertices). The names are those of the HDF5 datasets (docs/python.md).)");
       },
       py::arg("default") = 30.0, "each block's friction angle by the YADE export's rule");
   c.def("_yade_rows", &yade_rows, py::arg("default_friction_deg"));
+  c.def("_yade_contacts", &yade_contact_rows);
 }
 
 }  // namespace rockslice

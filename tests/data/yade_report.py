@@ -17,6 +17,8 @@ try:
            # Polyhedra scripts only: the relative gap the bodies start with (SHRINK = 1 - gap)
            'initial_gap': globals().get('INITIAL_GAP', 0.0),
            'real_interactions': O.interactions.countReal(),
+           'law': globals().get('LAW', ''),
+           'contacts': len(globals().get('CONTACTS', [])),
            # every pair the collider holds, real or not: [id1, id2]
            'pairs': [[i.id1, i.id2] for i in O.interactions.all(False)]}
     for b in O.bodies:
@@ -28,7 +30,14 @@ try:
                'mass': b.state.mass}
         if not b.isClump:
             row['volume'] = b.shape.GetVolume()
-            row['friction_deg'] = b.mat.frictionAngle * 180 / 3.141592653589793
+            # The block's own angle: its material's under LAW 'volumetric'; under 'mohr-coulomb'
+            # (material angle 0: the law's engine gives the shear) the angle the law falls back
+            # on for a contact CONTACTS does not list.
+            if globals().get('LAW', 'volumetric') == 'mohr-coulomb':
+                row['friction_deg'] = math.degrees(math.atan(tan_of_body[b.id]))
+                row['material_friction_deg'] = math.degrees(b.mat.frictionAngle)
+            else:
+                row['friction_deg'] = b.mat.frictionAngle * 180 / 3.141592653589793
         out['bodies'].append(row)
 except BaseException:
     out = {'error': traceback.format_exc()}

@@ -24,6 +24,9 @@ _bodies = rockslice.yade.build(_model, steps=%d)
 body_of_block = _bodies.body_of_block
 clump_of_cluster = _bodies.clump_of_cluster
 INITIAL_GAP = _bodies.namespace['INITIAL_GAP']
+LAW = _bodies.namespace['LAW']
+CONTACTS = _bodies.namespace['CONTACTS']
+tan_of_body = _bodies.namespace['tan_of_body']
 '''
 
 
@@ -58,6 +61,11 @@ def test_yade_bodies_in_process_equal_the_exported_script(scene, steps, tmp_path
     assert a['body_of_block'] == b_['body_of_block']
     assert a['clump_of_cluster'] == b_['clump_of_cluster']
     assert a['initial_gap'] == b_['initial_gap'] == rockslice._rockslice.YADE_INITIAL_GAP
+    # The same law and the same contacts, each with its joint's strength.
+    assert a['law'] == b_['law'] == 'mohr-coulomb'
+    assert a['contacts'] == b_['contacts'] == len(rockslice.load(g)._yade_contacts())
+    if scene == 'rock-slope.toml':
+        assert a['contacts'] > 0
     assert len(a['bodies']) == len(b_['bodies'])
     model = rockslice.load(g)
     kept = int(((model.flags & rockslice.REMOVED) == 0).sum())

@@ -6,10 +6,17 @@
 //                     the script stops with a clear message on a YADE without them).
 // Rules, the same for both:
 //   - one body per block that is not removed;
-//   - one material per block; its friction angle is the smallest friction angle of the joints
-//     of the block's faces, over rock and boundary joints (domain faces and construction joints
-//     are no contacts and carry none), rock bridges weighted in with [rock]'s (see
-//     block_friction_deg); a block with no such face gets default_friction_deg;
+//   - Polyhedra, law mohr_coulomb (the default; docs/dem-exports.md, "The contact law"): each
+//     contact of two blocks across a joint (contacts.hpp) has its joint's friction, cohesion and
+//     tension ([rock]'s for a rock bridge), in the script's CONTACTS (yade_contacts); a contact
+//     made later as blocks move (and any contact of a 2-D section, which has no CONTACTS yet)
+//     gets the smaller of its two blocks' friction angles (the rule below), no cohesion or
+//     tension;
+//   - law volumetric, and PotentialBlock: one material per block; its friction angle is the
+//     smallest friction angle of the joints of the block's faces, over rock and boundary joints
+//     (domain faces and construction joints are no contacts and carry none), rock bridges
+//     weighted in with [rock]'s (see block_friction_deg); a block with no such face gets
+//     default_friction_deg;
 //   - boundary blocks are fixed (blockedDOFs 'xyzXYZ');
 //   - the blocks of a cluster (joined across construction joints) are one clump; a clump with a
 //     boundary block is fixed;
@@ -22,6 +29,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "slice/dem.hpp"
 #include "slice/h5io.hpp"
@@ -29,6 +37,11 @@
 namespace slice {
 
 enum class YadeShape { polyhedra, potential_blocks };
+/// The Polyhedra contact law: mohr_coulomb, rockslice's per-contact law on YADE's polyhedra
+/// geometry (each contact its own shear force and its joint's strength); volumetric, YADE's
+/// Law2_PolyhedraGeom_PolyhedraPhys_Volumetric alone (in YADE 2023.02a its shear force is shared
+/// by all contacts: wrong for a body with two or more).
+enum class YadeLaw { mohr_coulomb, volumetric };
 
 /// YADE Polyhedra bodies are their blocks scaled by 1 - kYadeInitialGap about the centroid, so
 /// that faces that touch open a little (the script's comment before SHRINK says why).
@@ -36,6 +49,7 @@ inline constexpr double kYadeInitialGap = 1e-6;
 
 struct YadeOptions {
   YadeShape shape = YadeShape::polyhedra;
+  YadeLaw law = YadeLaw::mohr_coulomb;
   long steps = 0;                    // 0: build the model only; N: run N steps at the end
   double density = 2650;             // kg/m3 (granite-like rock)
   double young = 1e9;                // Polyhedra: PolyhedraMat.young, the volumetric contact
@@ -53,6 +67,7 @@ struct YadeOptions {
 
 struct YadeStats {
   std::size_t bodies = 0, fixed = 0, clumps = 0, removed = 0;  // bodies: blocks written
+  std::size_t contacts = 0, bridges = 0;  // rows of CONTACTS; of them, rock bridges
   DemBodies dem;        // the model's rigid bodies, the smallest free block and moving body
   double timestep = 0;  // O.dt the script sets (yade_timestep)
 };
@@ -67,6 +82,18 @@ double block_friction_deg(const BlockSystem& bs, std::size_t b, std::size_t firs
                           double default_friction_deg);
 /// The same, finding first_face by counting the faces of blocks 0 .. b - 1.
 double block_friction_deg(const BlockSystem& bs, std::size_t b, double default_friction_deg);
+
+/// A row of the script's CONTACTS: two kept blocks touching across a joint (contacts.hpp), with
+/// the strength the law gives the contact: its joint's friction angle [deg], cohesion and
+/// tension [Pa], or [rock]'s where the contact is a rock bridge (is_rock_bridge). One row per
+/// pair of blocks (the contact of largest area if a pair touches on two joints).
+struct YadeContact {
+  std::size_t a = 0, b = 0;
+  double friction_deg = 0, cohesion = 0, tension = 0, area = 0;
+  Vec3 centroid = Vec3::Zero(), normal = Vec3::UnitZ();  // normal: from a towards b
+  bool bridge = false;
+};
+std::vector<YadeContact> yade_contacts(const BlockSystem& bs);
 
 /// Writes the script atomically (to "<out>.partial", renamed when complete). Needs bs.geometry
 /// (slice-vertices); throws Error if missing or if the file cannot be written.

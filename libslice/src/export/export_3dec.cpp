@@ -13,11 +13,10 @@
 #include <tuple>
 #include <vector>
 
+#include "slice/contacts.hpp"
 #include "slice/error.hpp"
 #include "slice/export_udec.hpp"
-#include "slice/orientation.hpp"
 #include "slice/output.hpp"
-#include "slice/polytope.hpp"
 #include "slice/version.hpp"
 
 namespace slice {
@@ -96,131 +95,21 @@ JointSetIds joint_set_ids(const JointSystem& js) {
   return ids;
 }
 
-/// A face of a kept block on a rock or boundary joint, for the contact search.
-struct JointFace {
-  std::int64_t joint;
-  std::size_t block, row;  // row: the face's row in /blocks/face_*
-  bool plus;               // its outward normal points along the joint's normal
-};
-
-/// A face polygon in the joint's plane coordinates, with its box.
-struct Flat {
-  std::size_t block, row;
-  bool plus;
-  std::vector<Vec2> pts;  // in the joint's (u, v)
-  std::vector<Vec3> xs;   // the same, global
-  Vec2 lo, hi;
-};
-
 /// A contact of the JS lines: two kept blocks (rows a < b) facing each other on a joint.
 struct Contact {
   std::size_t js, a, b;
   double area;  // of the overlap of the two faces
 };
 
-/// Do two convex polygons of one plane overlap with positive area (by more than tol across
-/// every separating direction their edges give)?
-bool overlap(const Flat& a, const Flat& b, double tol) {
-  for (const Flat* p : {&a, &b}) {
-    const std::size_t n = p->pts.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec2 e = p->pts[(i + 1) % n] - p->pts[i];
-      const double len = e.norm();
-      if (len <= 0) continue;
-      const Vec2 axis(-e.y() / len, e.x() / len);
-      double a0 = INFINITY, a1 = -INFINITY, b0 = INFINITY, b1 = -INFINITY;
-      for (const Vec2& q : a.pts) a0 = std::min(a0, axis.dot(q)), a1 = std::max(a1, axis.dot(q));
-      for (const Vec2& q : b.pts) b0 = std::min(b0, axis.dot(q)), b1 = std::max(b1, axis.dot(q));
-      if (std::min(a1, b1) - std::max(a0, b0) <= tol) return false;
-    }
-  }
-  return true;
-}
-
-/// The area of the intersection of two convex polygons of one plane (global frame): `a` clipped
-/// by the inner side of each edge of `b`.
-double overlap_area(std::vector<Vec3> a, const std::vector<Vec3>& b) {
-  const Vec3 n = newell_normal(b);  // b runs counter-clockwise about n
-  for (std::size_t i = 0; i < b.size() && a.size() >= 3; ++i) {
-    const Vec3 out = (b[(i + 1) % b.size()] - b[i]).cross(n).normalized();
-    a = clip_polygon(a, Plane{out, out.dot(b[i])});
-  }
-  return a.size() < 3 ? 0 : newell_normal(a).norm() / 2;
-}
-
-/// The contacts across rock and boundary joints, sorted by (JS ID, a, b), each pair once. With
-/// `bridges`, a contact at most half of which lies on its joint's polygon is a rock bridge: the
-/// part of the contact on the polygon is at most the part of either face on it (fraction x area).
-std::vector<Contact> find_contacts(const BlockSystem& bs, const JointSetIds& ids, bool bridges) {
-  const Geometry& g = *bs.geometry;
-  const JointSystem& js = bs.joints;
-  const double tol = js.options.tolerance * js.length_scale;
-  std::vector<JointFace> faces;
-  std::size_t row = 0;
-  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
-    const Block& blk = bs.blocks[b];
-    for (const Face& f : blk.faces) {
-      if (!(blk.flags & kRemoved) && f.joint >= 0 &&
-          js.joints[std::size_t(f.joint)].kind != JointKind::construction)
-        faces.push_back(
-            {f.joint, b, row, f.normal.dot(js.joints[std::size_t(f.joint)].plane.normal) > 0});
-      ++row;
-    }
-  }
-  std::stable_sort(faces.begin(), faces.end(),
-                   [](const JointFace& x, const JointFace& y) { return x.joint < y.joint; });
+/// The contacts across rock and boundary joints (contacts.hpp) by joint-set ID, sorted by (JS ID,
+/// a, b), each pair once. With a [rock] table, a rock bridge (is_rock_bridge) takes its joint's
+/// ID + ids.count.
+std::vector<Contact> js_contacts(const BlockSystem& bs, const JointSetIds& ids) {
   std::vector<Contact> contacts;
-  std::vector<Flat> flats;
-  std::vector<std::size_t> order, active;
-  const auto open_area = [&](std::size_t r) { return g.face_joint_fraction[r] * g.face_area[r]; };
-  for (std::size_t lo = 0; lo < faces.size();) {
-    std::size_t hi = lo;
-    while (hi < faces.size() && faces[hi].joint == faces[lo].joint) ++hi;
-    const Joint& joint = js.joints[std::size_t(faces[lo].joint)];
-    const JointFrame fr = plane_frame(joint.dip_deg, joint.dip_direction_deg);
-    const std::size_t set_id = ids.of_joint[std::size_t(faces[lo].joint)];
-    flats.clear();
-    for (std::size_t k = lo; k < hi; ++k) {
-      const JointFace& jf = faces[k];
-      Flat fl{
-          jf.block, jf.row, jf.plus, {}, {}, Vec2::Constant(INFINITY), Vec2::Constant(-INFINITY)};
-      const auto base = g.vertex_offset[jf.block];
-      for (auto v = g.face_vertex_offset[jf.row]; v < g.face_vertex_offset[jf.row + 1]; ++v) {
-        const Vec3& x = g.vertices[std::size_t(base + g.face_vertices[std::size_t(v)])];
-        const Vec2 q(fr.u.dot(x), fr.v.dot(x));
-        fl.pts.push_back(q);
-        fl.xs.push_back(x);
-        fl.lo = fl.lo.cwiseMin(q);
-        fl.hi = fl.hi.cwiseMax(q);
-      }
-      flats.push_back(std::move(fl));
-    }
-    // Sweep along u: each face meets the faces of the other side whose u-ranges overlap.
-    order.resize(flats.size());
-    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-      return std::tie(flats[x].lo.x(), x) < std::tie(flats[y].lo.x(), y);
-    });
-    active.clear();
-    for (const std::size_t k : order) {
-      const Flat& f = flats[k];
-      std::erase_if(active, [&](std::size_t a) { return flats[a].hi.x() <= f.lo.x() + tol; });
-      for (const std::size_t a : active) {
-        const Flat& o = flats[a];
-        if (o.plus == f.plus || o.hi.y() <= f.lo.y() + tol || f.hi.y() <= o.lo.y() + tol) continue;
-        if (!overlap(f, o, tol)) continue;
-        // A convex block has no two faces on one plane back to back: the readers refuse a face
-        // whose joint is not its plane's, so a contact of a block with itself is a defect here.
-        SLICE_ASSERT(f.block != o.block);
-        const double area = overlap_area(f.xs, o.xs);
-        const bool bridge = bridges && std::min(open_area(f.row), open_area(o.row)) < 0.5 * area;
-        contacts.push_back({set_id + (bridge ? ids.count : 0), std::min(f.block, o.block),
-                            std::max(f.block, o.block), area});
-      }
-      active.push_back(k);
-    }
-    lo = hi;
-  }
+  for (const BlockContact& c : find_contacts(bs))
+    contacts.push_back(
+        {ids.of_joint[std::size_t(c.joint)] + (is_rock_bridge(bs, c) ? ids.count : 0), c.a, c.b,
+         c.area});
   const auto key = [](const Contact& c) { return std::tie(c.js, c.a, c.b); };
   std::sort(contacts.begin(), contacts.end(), [&](const Contact& x, const Contact& y) {
     return std::tie(x.js, x.a, x.b, x.area) < std::tie(y.js, y.a, y.b, y.area);
@@ -494,7 +383,7 @@ ThreeDecStats write_3dec(const std::filesystem::path& grid, const std::filesyste
   ThreeDecStats st;
   for (const Block& b : bs.blocks) st.removed += (b.flags & kRemoved) ? 1 : 0;
   const JointSetIds ids = joint_set_ids(bs.joints);
-  const auto contacts = find_contacts(bs, ids, bs.joints.rock.given);
+  const auto contacts = js_contacts(bs, ids);
   const auto clusters = joined_clusters(bs);
   st.tol = grid_tol(bs);
   time_step(bs, opt, contacts, st);

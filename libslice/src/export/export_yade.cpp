@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "../io/h5/h5.hpp"
+#include "slice/contacts.hpp"
 #include "slice/error.hpp"
 #include "slice/output.hpp"
 #include "slice/utf8.hpp"
@@ -74,9 +75,13 @@ struct BodyData {
 
 const char* kHeader = R"(# Rules (rockslice docs/dem-exports.md, "YADE"):
 #  - one body per block that is not removed;
-#  - one material per block; its friction angle is the smallest friction angle of the joints of
-#    its faces, over rock and boundary joints (domain faces and construction joints are no
-#    contacts); a block with no such face gets DEFAULT_FRICTION_DEG;
+#  - Polyhedra with LAW 'mohr-coulomb': each contact across a joint (CONTACTS) has its joint's
+#    friction, cohesion and tension ([rock]'s for a rock bridge) and its own shear force; a
+#    contact made later as blocks move has the smaller of its two blocks' angles (below);
+#  - LAW 'volumetric' and PotentialBlock: one material per block; its friction angle is the
+#    smallest friction angle of the joints of its faces, over rock and boundary joints (domain
+#    faces and construction joints are no contacts); a block with no such face gets
+#    DEFAULT_FRICTION_DEG;
 #  - boundary blocks are fixed; the blocks of a cluster (joined across construction joints) are
 #    one clump, fixed if it holds a boundary block;
 #  - gravity along -z; STEPS > 0 runs that many steps of the settling run at the end.
@@ -130,6 +135,32 @@ double block_friction_deg(const BlockSystem& bs, std::size_t b, std::size_t firs
   return std::isfinite(phi) ? phi : default_friction_deg;
 }
 
+std::vector<YadeContact> yade_contacts(const BlockSystem& bs) {
+  std::vector<YadeContact> rows;
+  if (bs.joints.dimension == 2) return rows;  // a section's contacts are edges (not yet here)
+  const RockSpec& rock = bs.joints.rock;
+  for (const BlockContact& c : find_contacts(bs)) {
+    const Joint& j = bs.joints.joints[std::size_t(c.joint)];
+    const bool bridge = is_rock_bridge(bs, c);
+    YadeContact r{c.a,
+                  c.b,
+                  bridge ? rock.friction_angle_deg : j.friction_angle_deg,
+                  bridge ? rock.cohesion : j.cohesion,
+                  bridge ? rock.tension : j.tension,
+                  c.area,
+                  c.centroid,
+                  c.normal,
+                  bridge};
+    // find_contacts sorts by (a, b): a pair on two joints keeps its larger contact.
+    if (!rows.empty() && rows.back().a == r.a && rows.back().b == r.b) {
+      if (r.area > rows.back().area) rows.back() = r;
+      continue;
+    }
+    rows.push_back(r);
+  }
+  return rows;
+}
+
 double block_friction_deg(const BlockSystem& bs, std::size_t b, double default_friction_deg) {
   std::size_t first_face = 0;
   for (std::size_t i = 0; i < b; ++i) first_face += bs.blocks[i].faces.size();
@@ -170,6 +201,11 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
   st.bodies = bodies.size();
   st.dem = dem_bodies(bs);
   st.clumps = st.dem.clumps;  // clusters of two or more kept blocks
+  // The Polyhedra script's contacts (its law takes each contact's strength from them).
+  std::vector<YadeContact> contacts;
+  if (!pb) contacts = yade_contacts(bs);
+  st.contacts = contacts.size();
+  for (const YadeContact& c : contacts) st.bridges += c.bridge ? 1 : 0;
   // Both scripts set O.dt by the same rule.
   st.timestep = yade_timestep(st.dem, opt.density, opt.young, opt.timestep_factor);
 
@@ -223,6 +259,8 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
     s << (pb ? "PB_ROUNDING = " + num(opt.pb_rounding) + "\n"
              : "INITIAL_GAP = " + num(kYadeInitialGap) + "  # relative: see SHRINK below\n")
       << "SHAPE = '" << (pb ? "potential_blocks" : "polyhedra") << "'\n"
+      << "LAW = '" << (opt.law == YadeLaw::volumetric ? "volumetric" : "mohr-coulomb")
+      << "'  # the contact law (docs/dem-exports.md): 'mohr-coulomb' or 'volumetric'\n"
       << "SECTION = " << (section ? "True" : "False")
       << "  # a 2-D section: bodies move in (x, z) only\n"
       << "ENGINES = True  # set O.engines and O.dt\n";
@@ -242,6 +280,15 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
             s << vec(g.vertices[std::size_t(v)] + Vec3(0, y, 0)) << ", ";
         s << ")),\n";
       }
+      s << "]\n\n";
+      s << "# (block a, block b, friction angle [deg], cohesion [Pa], tension [Pa], area, "
+           "centroid,\n#  unit normal from a to b): the contacts across joints, each with its "
+           "joint's strength\n#  ([rock]'s for a rock bridge)\n"
+        << "CONTACTS = [\n";
+      for (const YadeContact& c : contacts)
+        s << "(" << c.a << ", " << c.b << ", " << num(c.friction_deg) << ", " << num(c.cohesion)
+          << ", " << num(c.tension) << ", " << num(c.area) << ", " << vec(c.centroid) << ", "
+          << vec(c.normal) << "),\n";
       s << "]\n\n";
     } else {
       s << "# (block id in blocks.h5, fixed, friction angle [deg], cluster (-1: none), volume "
