@@ -100,9 +100,7 @@ int main(int argc, char** argv) {
                                 {"-o", out},
                                 {"--joints", joints},
                                 {"--3dec-commands", commands}});
-    if (law != "mohr-coulomb" && law != "volumetric")
-      throw slice::Error("--yade-law", "is '" + law + "'", "use mohr-coulomb or volumetric");
-    yade.law = law == "volumetric" ? slice::YadeLaw::volumetric : slice::YadeLaw::mohr_coulomb;
+    yade.law = slice::parse_yade_law(law);
     yade.validate();
     tdec.validate();
     const auto vtu_compressor = slice::parse_vtu_compressor(compressor, "--vtu-compressor");

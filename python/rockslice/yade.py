@@ -59,7 +59,7 @@ def build(model, steps=0, engines=True, initial_gap=_rockslice.YADE_INITIAL_GAP,
         raise TypeError('build() got unknown options %s; the options are %s'
                         % (', '.join(unknown), ', '.join(sorted(DEFAULTS))))
     try:
-        opt = _rockslice._yade_options(steps=steps, **options)
+        opt = _rockslice._yade_options(steps=steps, law=str(law), **options)
     except _rockslice.Error as e:
         # The library names slice-export's options (--yade-density): name the keyword instead.
         raise _rockslice.Error(str(e).replace('--yade-friction', 'default_friction')
@@ -67,8 +67,6 @@ def build(model, steps=0, engines=True, initial_gap=_rockslice.YADE_INITIAL_GAP,
                                .replace('--yade-', '')) from None
     if not 0 <= initial_gap < 1:
         raise _rockslice.Error('initial_gap: is %r; give a fraction in [0, 1)' % (initial_gap,))
-    if law not in ('mohr-coulomb', 'volumetric'):
-        raise _rockslice.Error("law: is %r; give 'mohr-coulomb' or 'volumetric'" % (law,))
     rows = model._yade_rows(opt['default_friction'])
     ns = {
         '__name__': 'rockslice_yade_model',
@@ -84,7 +82,7 @@ def build(model, steps=0, engines=True, initial_gap=_rockslice.YADE_INITIAL_GAP,
         'TIMESTEP_FACTOR': opt['timestep_factor'],
         'INITIAL_GAP': float(initial_gap),
         'SHAPE': 'polyhedra',
-        'LAW': law,
+        'LAW': opt['law'],
         'CONTACTS': model._yade_contacts(),
         'SECTION': model.dimension == 2,
         'ENGINES': bool(engines),

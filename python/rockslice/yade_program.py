@@ -18,7 +18,7 @@
 #   CONTACTS one row per contact of two kept blocks across a joint (polyhedra): (block a,
 #            block b, friction angle [deg], cohesion [Pa], tension [Pa], area, centroid, normal
 #            from a to b); LAW 'mohr-coulomb' gives each its joint's strength (docs/dem-exports.md)
-#   LAW      'mohr-coulomb' (polyhedra: rockslice's per-contact law) or 'volumetric' (YADE's own
+#   LAW      polyhedra: 'mohr-coulomb' (rockslice's per-contact law) or 'volumetric' (YADE's own
 #            Law2_PolyhedraGeom_PolyhedraPhys_Volumetric alone: its shear is wrong for a body with
 #            two or more contacts)
 import math
@@ -179,23 +179,26 @@ if ENGINES:
 # the model (CONTACTS) starts bonded when its joint has cohesion or tension: the bond is a spring
 # between the two blocks at the contact's centroid, normal kn A and shear ks A, that holds
 # tension up to t A (if t > 0) and shear up to c A + Fn tan(phi) (if c > 0), and breaks for good
-# past either; while it holds, a bond with cohesion carries the contact's shear. kn, ks: the volumetric law's (YOUNG / 2, POISSON x YOUNG
-# / 2 per unit area and displacement).
-KN = YOUNG / 2.0
-KS = POISSON * YOUNG / 2.0
-# The model starts with no stress: gravity comes on at once, and a bond loaded at once swings to
-# about twice its static load. So bonds cannot break for the first BOND_SETTLE seconds, ten
-# periods sqrt(m / k) x 2 pi of the largest body that moves (NewtonIntegrator's damping takes the
-# swing out by then); past it, a bond breaks as soon as its load passes its strength.
-largest = max(moving) if moving else 1.0
-BOND_SETTLE = 10 * 2 * math.pi * math.sqrt(DENSITY * largest ** (1.0 / 3) / KN)
-# A contact CONTACTS does not list (made later as blocks move, or in a 2-D section, which has no
-# CONTACTS) has the smaller of its two blocks' friction angles (BLOCKS), no cohesion, no tension.
-tan_of_body = {body_of_block[row[0]]: math.tan(math.radians(row[2])) for row in BLOCKS}
+# past either; while it holds, a bond with cohesion carries the contact's shear. kn, ks: the
+# volumetric law's (YOUNG / 2, POISSON x YOUNG / 2 per unit area and displacement).
 contact_of_pair = {}   # (body id1, body id2), id1 < id2 -> (tan phi, cohesion, tension, area)
 shear_of_pair = {}     # the shear force on body id2 of each touching contact (on id1: minus it)
 bond_of_pair = {}      # the bonds that hold: [id1, id2, point in id1, point in id2, normal in id1]
 if SHAPE == 'polyhedra' and LAW == 'mohr-coulomb':
+    KN = YOUNG / 2.0
+    KS = POISSON * YOUNG / 2.0
+    # The model starts with no stress: gravity comes on at once, and a bond loaded at once swings
+    # to about twice its static load. So bonds cannot break for the first BOND_SETTLE seconds,
+    # ten periods sqrt(m / k) x 2 pi of the largest body that moves (NewtonIntegrator's damping
+    # takes the swing out by then); past it, a bond breaks as soon as its load passes its
+    # strength.
+    largest = max(moving) if moving else 1.0
+    BOND_SETTLE = 10 * 2 * math.pi * math.sqrt(DENSITY * largest ** (1.0 / 3) / KN)
+    # A contact CONTACTS does not list (made later as blocks move, or in a 2-D section, which has
+    # no CONTACTS) has the smaller of its two blocks' friction angles (BLOCKS), no cohesion, no
+    # tension.
+    tan_of_body = {body_of_block[row[0]]: math.tan(math.radians(row[2])) for row in BLOCKS}
+
     def _local(body, x):
         st = O.bodies[body].state
         return st.ori.conjugate() * (x - st.pos)
@@ -224,13 +227,13 @@ def _typical_area(i1, i2):
 def mohr_coulomb():
     forces = O.forces
     bodies = O.bodies
-    touching = set()
+    touching = {}  # the touching contacts' normal force (YADE's volumetric law's)
     for I in O.interactions:
         g = I.geom
         key = (I.id1, I.id2)
         if not (g.equivalentPenetrationDepth > 1e-18 and g.penetrationVolume > 0):
             continue
-        touching.add(key)
+        fn = touching[key] = I.phys.normalForce.norm()
         if key in bond_of_pair and contact_of_pair[key][1] > 0:
             continue  # a bond with cohesion carries the shear (below)
         props = contact_of_pair.get(key)
@@ -246,7 +249,7 @@ def mohr_coulomb():
             fs = fs - fs.cross(g.twist_axis)
             fs = fs - n.dot(fs) * n
         fs = fs - (KS * props[3]) * g.shearInc
-        limit = I.phys.normalForce.norm() * props[0]
+        limit = fn * props[0]
         size = fs.norm()
         if size > limit:
             fs = fs * (limit / size)
@@ -270,15 +273,13 @@ def mohr_coulomb():
         opening = d.dot(n)
         f = Vector3(0, 0, 0)             # the bond's force on body 2
         if opening > 0 and tension > 0:
-            fn = KN * area * opening     # tension
-            if settled and fn > tension * area:
+            pull = KN * area * opening   # tension
+            if settled and pull > tension * area:
                 broken.append(key)
                 continue
-            f = -fn * n
+            f = -pull * n
         if cohesion > 0:
-            compression = 0.0
-            if key in touching:
-                compression = O.interactions[i1, i2].phys.normalForce.norm()
+            compression = touching.get(key, 0.0)
             fs = -(KS * area) * (d - opening * n)
             if settled and fs.norm() > cohesion * area + compression * tan_phi:
                 broken.append(key)

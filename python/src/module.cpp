@@ -50,6 +50,8 @@ PYBIND11_MODULE(_rockslice, m) {
     }
     if (given.contains("steps")) o.steps = given["steps"].cast<long>();
     out["steps"] = o.steps;
+    if (given.contains("law")) o.law = slice::parse_yade_law(given["law"].cast<std::string>());
+    out["law"] = slice::to_string(o.law);
     o.validate();
     return out;
   });

@@ -42,6 +42,10 @@ enum class YadeShape { polyhedra, potential_blocks };
 /// Law2_PolyhedraGeom_PolyhedraPhys_Volumetric alone (in YADE 2023.02a its shear force is shared
 /// by all contacts: wrong for a body with two or more).
 enum class YadeLaw { mohr_coulomb, volumetric };
+/// The law's name in scripts and options: "mohr-coulomb" or "volumetric".
+const char* to_string(YadeLaw law);
+/// The law `name` names (slice-export's --yade-law); throws Error naming --yade-law otherwise.
+YadeLaw parse_yade_law(const std::string& name);
 
 /// YADE Polyhedra bodies are their blocks scaled by 1 - kYadeInitialGap about the centroid, so
 /// that faces that touch open a little (the script's comment before SHRINK says why).
@@ -75,8 +79,9 @@ struct YadeStats {
 /// The friction angle [degrees] the rule above gives block `b` of `bs`. With a [rock] table in
 /// the scene (bs.joints.rock.given) and /geometry, each face's angle is weighted by its
 /// face_joint_fraction f: f x the joint's + (1 - f) x [rock]'s friction_angle, since a rock
-/// bridge (f < 1) is intact rock. Polyhedra's volumetric law has no cohesion or tension, and its
-/// friction is per body (the smaller of two bodies' materials): the rule can do no more.
+/// bridge (f < 1) is intact rock. Per body, this is all YADE's volumetric law can take (no
+/// cohesion or tension; a contact gets the smaller of its two bodies' angles); the per-contact
+/// law (yade_contacts) falls back on it for contacts the model does not list.
 /// `first_face`: block b's first row in /geometry's per-face arrays.
 double block_friction_deg(const BlockSystem& bs, std::size_t b, std::size_t first_face,
                           double default_friction_deg);

@@ -97,6 +97,16 @@ constexpr const char* kYadeProgram =
 
 }  // namespace
 
+const char* to_string(YadeLaw law) {
+  return law == YadeLaw::volumetric ? "volumetric" : "mohr-coulomb";
+}
+
+YadeLaw parse_yade_law(const std::string& name) {
+  for (const YadeLaw law : {YadeLaw::mohr_coulomb, YadeLaw::volumetric})
+    if (name == to_string(law)) return law;
+  throw Error("--yade-law", "is '" + name + "'", "use mohr-coulomb or volumetric");
+}
+
 void YadeOptions::validate() const {
   const auto positive = [](double v, const char* name) {
     if (!(std::isfinite(v) && v > 0))
@@ -259,8 +269,9 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
     s << (pb ? "PB_ROUNDING = " + num(opt.pb_rounding) + "\n"
              : "INITIAL_GAP = " + num(kYadeInitialGap) + "  # relative: see SHRINK below\n")
       << "SHAPE = '" << (pb ? "potential_blocks" : "polyhedra") << "'\n"
-      << "LAW = '" << (opt.law == YadeLaw::volumetric ? "volumetric" : "mohr-coulomb")
-      << "'  # the contact law (docs/dem-exports.md): 'mohr-coulomb' or 'volumetric'\n"
+      << (pb ? std::string()
+             : std::string("LAW = '") + to_string(opt.law) +
+                   "'  # the contact law (docs/dem-exports.md): 'mohr-coulomb' or 'volumetric'\n")
       << "SECTION = " << (section ? "True" : "False")
       << "  # a 2-D section: bodies move in (x, z) only\n"
       << "ENGINES = True  # set O.engines and O.dt\n";
