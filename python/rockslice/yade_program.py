@@ -32,6 +32,54 @@ started = time.time()
 def progress(what):
     print('rockslice: %s (%.0f s)' % (what, time.time() - started), flush=True)
 progress('building %d bodies' % len(BLOCKS))
+
+rows_of_cluster = {}
+for row in BLOCKS:
+    if row[3] >= 0:
+        rows_of_cluster.setdefault(row[3], []).append(row)
+
+# The volume of each rigid body: a cluster of two or more blocks moves as one, so its thin
+# members (pieces cut off by a construction joint exempt from the size limit) do not set the
+# time step; its whole volume does. Fixed bodies never move and set none: the smallest body that
+# moves does (slice-export and slice-info report the same figure).
+volume_of_body = {}
+fixed_body = set()
+for row in BLOCKS:
+    body = ('clump', row[3]) if len(rows_of_cluster.get(row[3], ())) >= 2 else ('block', row[0])
+    volume_of_body[body] = volume_of_body.get(body, 0.0) + row[4]
+    if row[1]:
+        fixed_body.add(body)
+moving = [v for body, v in volume_of_body.items() if body not in fixed_body]
+smallest = min(moving) if moving else 1.0
+
+# Cluster members too small for a DEM body (docs/dem-exports.md, "Small cluster members"): a
+# clump moves as one, but each member is still a body whose contacts YADE computes, and a sliver
+# far smaller than anything else the model integrates can make NaN. So a member of less than
+# MIN_MEMBER_FRACTION of the smallest body that moves is no body: its mass and inertia go to the
+# largest member of its cluster (that member's mass and inertia scaled by (its volume + theirs)
+# / its volume), so the clump keeps its cluster's mass; its contacts are left out.
+# merged_into: block -> that member.
+MIN_MEMBER_FRACTION = 1e-2
+merged_into = {}
+mass_factor = {}   # receiving block -> the factor on its mass and inertia
+for rows in rows_of_cluster.values():
+    if len(rows) < 2:
+        continue
+    largest_row = max(rows, key=lambda row: row[4])
+    for row in rows:
+        if row is not largest_row and row[4] < MIN_MEMBER_FRACTION * smallest:
+            merged_into[row[0]] = largest_row[0]
+            mass_factor[largest_row[0]] = (mass_factor.get(largest_row[0], 1.0) +
+                                           row[4] / largest_row[4])
+
+
+def add_body(block, body):
+    if block in mass_factor:
+        body.state.mass *= mass_factor[block]
+        body.state.inertia *= mass_factor[block]
+    body_of_block[block] = O.bodies.append(body)
+
+
 if SHAPE == 'polyhedra':
     from yade import polyhedra_utils
     # Neighbouring blocks share faces exactly. YADE's Polyhedra contact (Ig2) then intersects
@@ -58,6 +106,8 @@ if SHAPE == 'polyhedra':
                                   density=DENSITY / SHRINK ** 3, label='rock')
         O.materials.append(shared_mat)
     for i, (block, fixed, phi, cluster, volume, centroid, vertices) in enumerate(BLOCKS):
+        if block in merged_into:
+            continue
         mat = shared_mat
         if mat is None:
             mat = PolyhedraMat(young=YOUNG, poisson=POISSON, frictionAngle=math.radians(phi),
@@ -71,13 +121,15 @@ if SHAPE == 'polyhedra':
                                          mask=FIXED_MASK if fixed else FREE_MASK)
         if SECTION and not fixed:
             body.state.blockedDOFs = 'yXZ'  # the section's plane (x, z): no y, no turning off it
-        body_of_block[block] = O.bodies.append(body)
+        add_body(block, body)
         if (i + 1) % max(1, len(BLOCKS) // 10) == 0:
             progress('%d of %d bodies' % (i + 1, len(BLOCKS)))
 else:
     from yade import potential_utils
     for i, (block, fixed, phi, cluster, volume, inradius, radius, centroid,
             planes) in enumerate(BLOCKS):
+        if block in merged_into:
+            continue
         mat = FrictMat(young=-1, poisson=-1, frictionAngle=math.radians(phi), density=DENSITY,
                        label='block-%d' % block)
         O.materials.append(mat)
@@ -88,7 +140,7 @@ else:
             d=[p[3] - r for p in planes], r=r, R=radius, isBoundary=bool(fixed),
             fixed=bool(fixed), color=[grey, grey, grey])
         body.state.pos = Vector3(centroid) + body.shape.position
-        body_of_block[block] = O.bodies.append(body)
+        add_body(block, body)
         if (i + 1) % max(1, len(BLOCKS) // 10) == 0:
             progress('%d of %d bodies' % (i + 1, len(BLOCKS)))
 
@@ -98,13 +150,18 @@ fixed_cluster = set()
 for row in BLOCKS:
     block, fixed, cluster = row[0], row[1], row[3]
     if cluster >= 0:
-        members_of_cluster.setdefault(cluster, []).append(body_of_block[block])
+        if block in body_of_block:
+            members_of_cluster.setdefault(cluster, []).append(body_of_block[block])
         if fixed:
             fixed_cluster.add(cluster)
 clump_of_cluster = {}
 for cluster in sorted(members_of_cluster):
     members = members_of_cluster[cluster]
     if len(members) < 2:
+        if cluster in fixed_cluster:  # its one body took the mass of a fixed member
+            O.bodies[members[0]].state.blockedDOFs = 'xyzXYZ'
+            if SHAPE == 'polyhedra':
+                O.bodies[members[0]].mask = FIXED_MASK
         continue
     clump = O.bodies.clump(members)
     if cluster in fixed_cluster:
@@ -117,19 +174,6 @@ for cluster in sorted(members_of_cluster):
     clump_of_cluster[cluster] = clump
 progress('%d clumps' % len(clump_of_cluster))
 
-# The volume of each rigid body: a clump moves as one, so its thin members (pieces cut off by a
-# construction joint exempt from the size limit) do not set the time step; its whole volume does.
-# Fixed bodies never move and set none: the smallest body that moves does (slice-export and
-# slice-info report the same figure).
-volume_of_body = {}
-fixed_body = set()
-for row in BLOCKS:
-    body = ('clump', row[3]) if row[3] in clump_of_cluster else ('block', row[0])
-    volume_of_body[body] = volume_of_body.get(body, 0.0) + row[4]
-    if row[1]:
-        fixed_body.add(body)
-moving = [v for body, v in volume_of_body.items() if body not in fixed_body]
-smallest = min(moving) if moving else 1.0
 
 # The smallest body sets the verlet distance and the time step: a contact as large as a face,
 # A ~ V^(2/3), has stiffness k = YOUNG A (the volumetric law's, or kn per unit area) against
@@ -197,7 +241,8 @@ if SHAPE == 'polyhedra' and LAW == 'mohr-coulomb':
     # A contact CONTACTS does not list (made later as blocks move, or in a 2-D section, which has
     # no CONTACTS) has the smaller of its two blocks' friction angles (BLOCKS), no cohesion, no
     # tension.
-    tan_of_body = {body_of_block[row[0]]: math.tan(math.radians(row[2])) for row in BLOCKS}
+    tan_of_body = {body_of_block[row[0]]: math.tan(math.radians(row[2])) for row in BLOCKS
+                   if row[0] in body_of_block}
 
     def _local(body, x):
         st = O.bodies[body].state

@@ -14,6 +14,8 @@ try:
     out = {'iterations': O.iter, 'dt': O.dt, 'bodies': [],
            'body_of_block': {str(k): v for k, v in body_of_block.items()},
            'clump_of_cluster': {str(k): v for k, v in clump_of_cluster.items()},
+           # cluster members too small to be bodies: block -> the member that took their mass
+           'merged_into': {str(k): v for k, v in globals().get('merged_into', {}).items()},
            # Polyhedra scripts only: the relative gap the bodies start with (SHRINK = 1 - gap)
            'initial_gap': globals().get('INITIAL_GAP', 0.0),
            'real_interactions': O.interactions.countReal(),

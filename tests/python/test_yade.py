@@ -27,6 +27,7 @@ INITIAL_GAP = _bodies.namespace['INITIAL_GAP']
 LAW = _bodies.namespace['LAW']
 CONTACTS = _bodies.namespace['CONTACTS']
 tan_of_body = _bodies.namespace['tan_of_body']
+merged_into = _bodies.namespace['merged_into']
 '''
 
 
@@ -69,7 +70,8 @@ def test_yade_bodies_in_process_equal_the_exported_script(scene, steps, tmp_path
     assert len(a['bodies']) == len(b_['bodies'])
     model = rockslice.load(g)
     kept = int(((model.flags & rockslice.REMOVED) == 0).sum())
-    assert len(a['body_of_block']) == kept
+    assert a['merged_into'] == b_['merged_into']
+    assert len(a['body_of_block']) + len(a['merged_into']) == kept
     for x, y in zip(a['bodies'], b_['bodies']):
         for k in ('id', 'is_clump', 'clump', 'blocked'):
             assert x.get(k) == y.get(k), (x['id'], k)
