@@ -9,6 +9,7 @@
 // does it): a missing yade fails these tests, it does not skip them.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -167,16 +168,11 @@ slice::Vec3 upward_normal(double dip, double dd) {
           std::cos(rad(dip))};
 }
 
-}  // namespace
-
-TEST_CASE(
-    "the wedge of 3DEC's Sliding Wedge verification holds or slides across "
-    "(R_A + R_B) tan(phi) = W sin(psi)",
-    "[tools][export][yade][physics]") {
-  // Limit equilibrium (Hoek & Bray): the weight w = W (0, 0, -1) is carried by the normal
-  // reactions R_A, R_B on the two planes and a force s along the line of intersection t
-  // (downward): w = -R_A n_A - R_B n_B + s t, s = W sin(psi); tan(phi_c) = s / (R_A + R_B).
-  const slice::Vec3 na = upward_normal(40, 130), nb = upward_normal(60, 220);
+/// Hoek & Bray's wedge on two planes of upward normals na, nb: the weight w = W (0, 0, -1) is
+/// carried by the normal reactions R_A, R_B and a force s along the line of intersection t
+/// (downward): w = -R_A n_A - R_B n_B + s t, s = W sin(psi); the critical friction angle
+/// [deg], tan(phi_c) = s / (R_A + R_B), and t.
+std::pair<double, slice::Vec3> wedge_limit(const slice::Vec3& na, const slice::Vec3& nb) {
   slice::Vec3 t = na.cross(nb).normalized();
   if (t.z() > 0) t = -t;
   Eigen::Matrix3d m;
@@ -184,7 +180,16 @@ TEST_CASE(
   const slice::Vec3 x = m.colPivHouseholderQr().solve(slice::Vec3(0, 0, -1));
   REQUIRE(x[0] > 0);  // both planes carry the wedge: it slides on both, along t
   REQUIRE(x[1] > 0);
-  const double phi_c = std::atan(x[2] / (x[0] + x[1])) * 180 / kPi;
+  return {std::atan(x[2] / (x[0] + x[1])) * 180 / kPi, t};
+}
+
+}  // namespace
+
+TEST_CASE(
+    "the wedge of 3DEC's Sliding Wedge verification holds or slides across "
+    "(R_A + R_B) tan(phi) = W sin(psi)",
+    "[tools][export][yade][physics]") {
+  const auto [phi_c, t] = wedge_limit(upward_normal(40, 130), upward_normal(60, 220));
   CAPTURE(phi_c, t.transpose());
   struct Case {
     double dphi;
@@ -345,4 +350,83 @@ TEST_CASE(
   CHECK(steep >= 4);  // the test must see blocks on the steep plane, and others
   CHECK(m.of_block.size() > steep);
   if (phi > 35) CHECK(moved == 0);
+}
+
+namespace {
+
+/// The free block's row of a PotentialBlock script (--format yade-potential-blocks): its
+/// friction angle [deg] and its planes' unit outward normals. Exactly one block is free.
+std::pair<double, std::vector<slice::Vec3>> free_pb_block(const std::string& model) {
+  std::ifstream in(model);
+  std::string line;
+  bool in_blocks = false;
+  std::vector<std::pair<double, std::vector<slice::Vec3>>> free;
+  while (std::getline(in, line)) {
+    if (line == "BLOCKS = [") {
+      in_blocks = true;
+    } else if (in_blocks && line == "]") {
+      break;
+    } else if (in_blocks) {
+      // (block, fixed, phi, cluster, volume, inradius, R, (cx, cy, cz), ((a, b, c, d), ...))
+      const auto v = test::numbers(line);
+      REQUIRE(v.size() >= 10 + 4 * 4);
+      if (v[1] != 0) continue;
+      std::vector<slice::Vec3> normals;
+      for (std::size_t k = 10; k + 3 < v.size(); k += 4)
+        normals.emplace_back(v[k], v[k + 1], v[k + 2]);
+      free.emplace_back(v[2], normals);
+    }
+  }
+  REQUIRE(free.size() == 1);
+  return free[0];
+}
+
+/// The plane among `normals` whose outward normal is -n (the block lies on n's side).
+bool has_plane(const std::vector<slice::Vec3>& normals, const slice::Vec3& n) {
+  for (const auto& m : normals)
+    if (m.dot(-n) > 1 - 1e-9) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "the PotentialBlock export's parameters give the plane's and the wedge's closed-form "
+    "answers",
+    "[tools][export][yade][physics]") {
+  // Debian's YADE cannot run PotentialBlock bodies: the script's parameters are checked instead.
+  // The free block has the sliding planes among its faces and the joints' friction angle, and
+  // limit equilibrium on those gives the answer the Polyhedra model gave in YADE above.
+  SECTION("the block on the plane") {
+    const double alpha = 30, phi = GENERATE(40.0, 34.0, 26.0, 20.0);
+    CAPTURE(phi);
+    test::TempDir tmp;
+    const auto geom = model_of(tmp, plane_scene(alpha, phi), {});
+    const std::string pb = (tmp / "pb.py").string();
+    REQUIRE(
+        run_tool("slice-export", {geom, "--format", "yade-potential-blocks", "-o", pb}).exit_code ==
+        0);
+    const auto [phi_pb, normals] = free_pb_block(pb);
+    CHECK(phi_pb == phi);
+    REQUIRE(has_plane(normals, upward_normal(alpha, 90)));
+    CHECK((std::tan(rad(phi_pb)) < std::tan(rad(alpha))) == (phi < alpha));
+  }
+  SECTION("the wedge") {
+    const slice::Vec3 na = upward_normal(40, 130), nb = upward_normal(60, 220);
+    const double phi_c = wedge_limit(na, nb).first;
+    const double dphi = GENERATE(8.0, 3.0, -3.0, -8.0);
+    CAPTURE(dphi);
+    test::TempDir tmp;
+    const auto geom = model_of(tmp, wedge_scene(phi_c + dphi), {});
+    const std::string pb = (tmp / "pb.py").string();
+    REQUIRE(
+        run_tool("slice-export", {geom, "--format", "yade-potential-blocks", "-o", pb}).exit_code ==
+        0);
+    const auto [phi_pb, normals] = free_pb_block(pb);
+    // The scene's angle (written with 6 digits), the joints' in the file.
+    CHECK(phi_pb == slice::read_blocks(geom).joints.joints.at(0).friction_angle_deg);
+    REQUIRE(has_plane(normals, na));
+    REQUIRE(has_plane(normals, nb));
+    CHECK((phi_pb < phi_c) == (dphi < 0));
+  }
 }

@@ -258,22 +258,6 @@ TEST_CASE("the YADE model's collider keeps two fixed bodies apart", "[tools][exp
   CHECK(none > 0);
 }
 
-namespace {
-
-/// The numbers of a line, in order (the script writes one block per line of plain tuples).
-std::vector<double> numbers(const std::string& line) {
-  std::string s = line;
-  for (char& c : s)
-    if (c == '(' || c == ')' || c == ',') c = ' ';
-  std::istringstream in(s);
-  std::vector<double> v;
-  double x;
-  while (in >> x) v.push_back(x);
-  return v;
-}
-
-}  // namespace
-
 TEST_CASE("the PotentialBlock model's planes give back the blocks' volumes",
           "[tools][export][yade]") {
   const std::string scene = GENERATE(as<std::string>{}, "cube-3sets.toml", "rock-slope.toml");
@@ -303,7 +287,7 @@ TEST_CASE("the PotentialBlock model's planes give back the blocks' volumes",
     }
     if (!in_blocks) continue;
     if (line == "]") break;
-    const auto v = numbers(line);
+    const auto v = test::numbers(line);
     REQUIRE(v.size() >= 10 + 4 * 4);
     REQUIRE((v.size() - 10) % 4 == 0);
     const auto blk = std::size_t(v[0]);

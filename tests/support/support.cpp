@@ -137,6 +137,17 @@ int run_yade_report(const fs::path& model, const fs::path& report, const fs::pat
                   shell_quote(model) + " " + shell_quote(report), log);
 }
 
+std::vector<double> numbers(const std::string& line) {
+  std::string s = line;
+  for (char& c : s)
+    if (c == '(' || c == ')' || c == ',') c = ' ';
+  std::istringstream in(s);
+  std::vector<double> v;
+  double x;
+  while (in >> x) v.push_back(x);
+  return v;
+}
+
 std::string tail_of(const fs::path& file, std::size_t n) {
   const std::string text = read_bytes(file);
   return text.substr(text.size() > n ? text.size() - n : 0);

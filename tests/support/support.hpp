@@ -65,6 +65,9 @@ int run_yade(const std::string& script, const std::string& args, const fs::path&
 /// built and ran; its output goes to `log`. Returns YADE's exit code.
 int run_yade_report(const fs::path& model, const fs::path& report, const fs::path& log);
 /// The last `n` bytes of a file (a log, for a failing test's message).
+/// The numbers of a line of Python tuples ("(1, 2.5, (3, 4)),"): parentheses and commas
+/// dropped.
+std::vector<double> numbers(const std::string& line);
 std::string tail_of(const fs::path& file, std::size_t n = 2000);
 
 /// The share of the property tests' random cases to run: $SLICE_PROPERTY_SCALE, a number in
