@@ -11,6 +11,7 @@
 
 #include "slice/geometry.hpp"
 #include "slice/scene.hpp"
+#include "slice/stability.hpp"
 
 namespace slice {
 
@@ -56,6 +57,9 @@ struct BlockSystem {
   std::vector<Block> blocks;
   bool pruned = false;
   std::optional<Geometry> geometry;
+  /// /contacts and /stability (slice-stability), of these very blocks and geometry: whatever
+  /// changes them resets it.
+  std::optional<StabilityData> stability;
 };
 
 /// How files are written. compress: every dataset chunked, shuffled and deflated (HDF5's

@@ -4,6 +4,7 @@
 // the two polygon helpers the vertices and the exports share (no LP or CGAL behind them).
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "slice/geometry.hpp"
@@ -36,6 +37,10 @@ std::vector<Plane> box_planes(const Vec3& min, const Vec3& max);
 
 /// Newell's vector of a polygon: its normal times twice its area (right-handed about the loop).
 Vec3 newell_normal(const std::vector<Vec3>& polygon);
+
+/// Area and centroid of a planar polygon (a fan of triangles from its first corner); a polygon
+/// of no area has area 0 and its first corner (or the origin) as centroid.
+std::pair<double, Vec3> polygon_area_centroid(const std::vector<Vec3>& polygon);
 
 /// The convex polygon `polygon` clipped by the half-space `h` (normal . x <= d); vertices in
 /// order. Sutherland-Hodgman; points on the plane are kept.

@@ -57,26 +57,9 @@ std::vector<Vec3> overlap_polygon(std::vector<Vec3> a, const std::vector<Vec3>& 
   return a;
 }
 
-/// Area and centroid of a planar polygon (a fan of triangles from its first corner).
-std::pair<double, Vec3> area_centroid(const std::vector<Vec3>& p) {
-  if (p.size() < 3) return {0, p.empty() ? Vec3::Zero() : p[0]};
-  const Vec3 n = newell_normal(p);
-  const double twice = n.norm();
-  if (!(twice > 0)) return {0, p[0]};
-  const Vec3 u = n / twice;
-  Vec3 sum = Vec3::Zero();
-  double w = 0;
-  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
-    const double t = (p[i] - p[0]).cross(p[i + 1] - p[0]).dot(u);
-    sum += t * (p[0] + p[i] + p[i + 1]) / 3;
-    w += t;
-  }
-  return {twice / 2, w != 0 ? Vec3(sum / w) : p[0]};
-}
-
 }  // namespace
 
-std::vector<BlockContact> find_contacts(const BlockSystem& bs, bool construction) {
+void for_each_contact(const BlockSystem& bs, ContactScope scope, const ContactVisitor& visit) {
   if (!bs.geometry)
     throw Error("/geometry", "the blocks have no vertices, volumes or face areas",
                 "run slice-vertices on the blocks file first");
@@ -88,8 +71,8 @@ std::vector<BlockContact> find_contacts(const BlockSystem& bs, bool construction
   for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
     const Block& blk = bs.blocks[b];
     for (const Face& f : blk.faces) {
-      if (!(blk.flags & kRemoved) && f.joint >= 0 &&
-          (construction || js.joints[std::size_t(f.joint)].kind != JointKind::construction))
+      if ((scope.removed || !(blk.flags & kRemoved)) && f.joint >= 0 &&
+          (scope.construction || js.joints[std::size_t(f.joint)].kind != JointKind::construction))
         faces.push_back(
             {f.joint, b, row, f.normal.dot(js.joints[std::size_t(f.joint)].plane.normal) > 0});
       ++row;
@@ -97,7 +80,6 @@ std::vector<BlockContact> find_contacts(const BlockSystem& bs, bool construction
   }
   std::stable_sort(faces.begin(), faces.end(),
                    [](const JointFace& x, const JointFace& y) { return x.joint < y.joint; });
-  std::vector<BlockContact> contacts;
   std::vector<Flat> flats;
   std::vector<std::size_t> order, active;
   const auto open_area = [&](std::size_t r) { return g.face_joint_fraction[r] * g.face_area[r]; };
@@ -135,21 +117,33 @@ std::vector<BlockContact> find_contacts(const BlockSystem& bs, bool construction
       for (const std::size_t a : active) {
         const Flat& o = flats[a];
         if (o.plus == f.plus || o.hi.y() <= f.lo.y() + tol || f.hi.y() <= o.lo.y() + tol) continue;
-        if (!overlap(f, o, tol)) continue;
+        const bool f_removed = bs.blocks[f.block].flags & kRemoved,
+                   o_removed = bs.blocks[o.block].flags & kRemoved;
+        if ((f_removed && o_removed) || !overlap(f, o, tol)) continue;
         // A convex block has no two faces on one plane back to back: the readers refuse a face
         // whose joint is not its plane's, so a contact of a block with itself is a defect here.
         SLICE_ASSERT(f.block != o.block);
-        const auto [area, centroid] = area_centroid(overlap_polygon(f.xs, o.xs));
-        const Flat& fa = f.block < o.block ? f : o;
-        const Flat& fb = f.block < o.block ? o : f;
+        // a < b, but a kept block first in a contact with a removed one.
+        const bool f_first = f_removed == o_removed ? f.block < o.block : o_removed;
+        const Flat& fa = f_first ? f : o;
+        const Flat& fb = f_first ? o : f;
         const Vec3 n = fa.plus ? joint.plane.normal : Vec3(-joint.plane.normal);
-        contacts.push_back({fa.block, fb.block, fa.row, fb.row, faces[lo].joint, area, centroid, n,
-                            std::min(open_area(f.row), open_area(o.row))});
+        std::vector<Vec3> polygon = overlap_polygon(fa.xs, fb.xs);
+        const auto [area, centroid] = polygon_area_centroid(polygon);
+        visit({fa.block, fb.block, fa.row, fb.row, faces[lo].joint, area, centroid, n,
+               std::min(open_area(f.row), open_area(o.row))},
+              polygon);
       }
       active.push_back(k);
     }
     lo = hi;
   }
+}
+
+std::vector<BlockContact> find_contacts(const BlockSystem& bs, bool construction) {
+  std::vector<BlockContact> contacts;
+  for_each_contact(bs, {construction, false},
+                   [&](const BlockContact& c, std::span<const Vec3>) { contacts.push_back(c); });
   std::sort(contacts.begin(), contacts.end(), [](const BlockContact& x, const BlockContact& y) {
     return std::tie(x.a, x.b, x.joint, x.face_a, x.face_b) <
            std::tie(y.a, y.b, y.joint, y.face_a, y.face_b);

@@ -164,6 +164,22 @@ Vec3 newell_normal(const std::vector<Vec3>& polygon) {
   return s;
 }
 
+std::pair<double, Vec3> polygon_area_centroid(const std::vector<Vec3>& p) {
+  if (p.size() < 3) return {0, p.empty() ? Vec3::Zero() : p[0]};
+  const Vec3 n = newell_normal(p);
+  const double twice = n.norm();
+  if (!(twice > 0)) return {0, p[0]};
+  const Vec3 u = n / twice;
+  Vec3 sum = Vec3::Zero();
+  double w = 0;
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) {
+    const double t = (p[i] - p[0]).cross(p[i + 1] - p[0]).dot(u);
+    sum += t * (p[0] + p[i] + p[i + 1]) / 3;
+    w += t;
+  }
+  return {twice / 2, w != 0 ? Vec3(sum / w) : p[0]};
+}
+
 std::vector<Vec3> clip_polygon(const std::vector<Vec3>& polygon, const Plane& h) {
   std::vector<Vec3> out;
   clip_polygon(polygon, h, out);

@@ -1021,6 +1021,7 @@ GeometryStats compute_geometry(BlockSystem& bs, const Progress& progress, int th
   const GeometryStats st = compute_geometry(
       std::as_const(bs), [&](std::size_t, Geometry&& run) { append(geo, run); }, progress, threads);
   bs.geometry = std::move(geo);
+  bs.stability.reset();  // of the geometry it had
   return st;
 }
 

@@ -307,7 +307,10 @@ void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& 
   // the .partial file, which becomes `out` only if they pass. A check's error comes first, as
   // when it ran first. /geometry is written after the check: its writer indexes by its offsets.
   tbb::task_group checking;
-  checking.run([&] { check_blocks(Checker(out.string(), kNotWritten), bs); });
+  checking.run([&] {
+    check_blocks(Checker(out.string(), kNotWritten), bs);
+    check_stability(Checker(out.string(), kNotWritten), bs);
+  });
   std::optional<OpenFile> file;
   std::exception_ptr write_error;
   try {
@@ -319,6 +322,7 @@ void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& 
   checking.wait();
   if (write_error) std::rethrow_exception(write_error);
   if (bs.geometry) write_geometry_group(file->f.root(), bs);
+  if (bs.stability) write_stability_groups(file->f.root(), bs);
   file->commit();
 }
 
@@ -486,8 +490,13 @@ BlockSystem read_blocks(const fs::path& in) {
   bs.joints = read_joint_groups(f.root());
   bs.blocks = read_blocks_group(f.root(), bs.pruned);
   const auto blocks_checked = [&] { check_blocks(Checker(in.string(), kBlocksFix), bs, false); };
+  const auto stability = [&] {
+    read_stability_groups(f.root(), bs);
+    check_stability(Checker(in.string(), "run slice-stability on the geom.h5 again"), bs);
+  };
   if (!f.root().exists("geometry")) {
     blocks_checked();
+    stability();
     return bs;
   }
   // The blocks are checked on the other threads while this one reads /geometry, and then each
@@ -529,6 +538,7 @@ BlockSystem read_blocks(const fs::path& in) {
   }
   values.wait();
   if (rows_failed) check_geometry(Checker(in.string(), kGeometryFix), bs);
+  stability();
   return bs;
 }
 

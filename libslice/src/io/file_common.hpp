@@ -126,6 +126,11 @@ void check_runs(std::span<const Block> blocks,
                 const std::function<void(std::size_t, std::size_t, std::size_t)>& check,
                 bool concurrent = true);
 
+// /contacts and /stability (stability_file.cpp): checked against the blocks, written, read.
+void check_stability(const Checker& c, const BlockSystem& bs);
+void write_stability_groups(const Group& root, const BlockSystem& bs);
+void read_stability_groups(const Group& root, BlockSystem& bs);
+
 // --- writing ---------------------------------------------------------------------------------
 
 void write_header(const Group& root, FileKind kind, const Provenance& prov, const JointSystem& js);

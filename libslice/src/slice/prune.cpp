@@ -114,6 +114,7 @@ PruneStats prune_blocks(BlockSystem& bs, LpBackend backend, const Progress& prog
   });
   bs.pruned = true;
   bs.geometry.reset();  // faces changed: vertices and loops no longer match
+  bs.stability.reset();
   st.decisions = referees.counts();
   st.failed = st.decisions.failed;
   st.seconds = seconds_since(t0);
