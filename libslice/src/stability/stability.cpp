@@ -315,7 +315,7 @@ void check_stability_options(const StabilityOptions& opt) {
   const auto check = [](const char* option, double v, bool positive, const char* unit) {
     if (!std::isfinite(v) || v < 0 || (positive && v == 0))
       throw Error(option,
-                  "is " + std::to_string(v) + "; it must be a finite number " +
+                  "is " + shortest(v) + "; it must be a finite number " +
                       (positive ? "above 0" : "of 0 or more"),
                   std::string("give it in ") + unit);
   };
