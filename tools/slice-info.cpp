@@ -1,4 +1,6 @@
 // slice-info: what a rockslice HDF5 file holds, as text or JSON (stdout).
+#include <array>
+#include <cmath>
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -162,6 +164,71 @@ ordered_json describe_shapes(const slice::BlockSystem& bs) {
       {"by_class_kalenchuk", by_class(true)}};
 }
 
+// /stability and /contacts (slice-stability): blocks and their volume by mode and by the round
+// they fail in; a cluster's members count one by one.
+ordered_json describe_stability(const slice::BlockSystem& bs) {
+  const auto& st = *bs.stability;
+  const auto& r = st.result;
+  const auto& g = *bs.geometry;
+  const auto& o = r.options;
+  ordered_json j;
+  j["options"] = {{"density", o.density},
+                  {"seismic", o.seismic},
+                  {"seismic_azimuth", o.seismic_azimuth_deg},
+                  {"water_table", o.water_table ? ordered_json(*o.water_table) : nullptr},
+                  {"support_pressure", o.support_pressure},
+                  {"free_faces", slice::fixed_faces_string(o.free_faces)},
+                  {"fos_target", o.fos_target}};
+  std::size_t free = 0;
+  for (const auto f : st.contacts.free) free += f;
+  j["contacts"] = {{"total", st.contacts.size()}, {"free", free}};
+  std::array<std::size_t, 6> mode_blocks{};
+  std::array<double, 6> mode_volume{};
+  std::map<std::int32_t, std::pair<std::size_t, double>> rounds;
+  std::size_t exposed = 0, removable = 0, failing = 0;
+  double failing_volume = 0, min_fos = INFINITY;
+  std::int64_t min_block = -1, largest = -1;
+  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
+    if (bs.blocks[b].flags & slice::kRemoved) continue;
+    const auto m = r.mode[b];
+    ++mode_blocks[m];
+    mode_volume[m] += g.volume[b];
+    exposed += m > 0 ? 1 : 0;
+    removable += r.removable[b];
+    if (r.fos[b] < min_fos) min_fos = r.fos[b], min_block = std::int64_t(b);
+    if (r.generation[b] >= 0) {
+      ++failing;
+      failing_volume += g.volume[b];
+      auto& [n, v] = rounds[r.generation[b]];
+      ++n;
+      v += g.volume[b];
+      if (largest < 0 || g.volume[b] > g.volume[std::size_t(largest)]) largest = std::int64_t(b);
+    }
+  }
+  j["exposed"] = exposed;
+  j["removable"] = removable;
+  j["failing"] = failing;
+  j["failing_volume"] = failing_volume;
+  j["min_fos"] = min_block < 0 || std::isinf(min_fos)
+                     ? ordered_json(nullptr)
+                     : ordered_json{{"fos", min_fos}, {"block", min_block}};
+  j["largest_failing_block"] =
+      largest < 0 ? ordered_json(nullptr)
+                  : ordered_json{{"block", largest}, {"volume", g.volume[std::size_t(largest)]}};
+  ordered_json by_mode = ordered_json::array();
+  for (std::size_t m = 0; m < 6; ++m)
+    by_mode.push_back({{"mode", m},
+                       {"name", slice::to_string(slice::FailureMode(m))},
+                       {"blocks", mode_blocks[m]},
+                       {"volume", mode_volume[m]}});
+  j["by_mode"] = by_mode;
+  ordered_json by_round = ordered_json::array();
+  for (const auto& [k, nv] : rounds)
+    by_round.push_back({{"round", k}, {"blocks", nv.first}, {"volume", nv.second}});
+  j["by_round"] = by_round;
+  return j;
+}
+
 void print_text(const ordered_json& j, const std::string& indent = "") {
   for (const auto& [key, value] : j.items()) {
     if (value.is_object()) {
@@ -239,6 +306,7 @@ int main(int argc, char** argv) {
         auto& sets = j["joints"]["by_set"];
         for (std::size_t k = 0; k < sets.size(); ++k) sets[k]["p32_blocks"] = p32[k];
         j["joints"]["p32_blocks_deterministic"] = p32.back();
+        if (bs.stability) j["stability"] = describe_stability(bs);
       }
     }
     if (json)

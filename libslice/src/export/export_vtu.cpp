@@ -124,6 +124,34 @@ VtuStats write_vtu(const std::filesystem::path& out, const BlockSystem& bs, Sour
     r_aspect.add(aspect(blk));
   }
   const std::size_t cells = kept.size();
+  // /stability (slice-stability) as cell data: ParaView colours blocks by factor of safety. A
+  // block that cannot move (fos +inf in the file) has fos NaN here, ParaView's "no value" colour,
+  // so that the colour scale spans the blocks that can.
+  const StabilityResult* stab = bs.stability ? &bs.stability->result : nullptr;
+  const auto vtu_fos = [&](std::size_t b) {
+    const double v = stab->fos[b];
+    return std::isinf(v) ? std::numeric_limits<double>::quiet_NaN() : v;
+  };
+  Range r_removable, r_mode, r_fos, r_generation;
+  if (stab)
+    for (const std::size_t b : kept) {
+      r_removable.add(stab->removable[b]);
+      r_mode.add(stab->mode[b]);
+      r_fos.add(vtu_fos(b));
+      r_generation.add(stab->generation[b]);
+    }
+  std::vector<vtu::ArraySpec> cell_data = {
+      r_id.spec("Int64", "block_id"),          r_volume.spec("Float64", "volume"),
+      r_inradius.spec("Float64", "inradius"),  r_cluster.spec("Int64", "cluster"),
+      r_boundary.spec("UInt8", "boundary"),    r_fixed.spec("UInt8", "fixed"),
+      r_aspect.spec("Float64", "aspect_ratio")};
+  if (stab) {
+    cell_data.push_back(r_removable.spec("UInt8", "removable"));
+    cell_data.push_back(r_mode.spec("UInt8", "mode"));
+    cell_data.push_back(r_fos.spec("Float64", "fos"));
+    cell_data.push_back({"Float64", "direction", 3});
+    cell_data.push_back(r_generation.spec("Int32", "generation"));
+  }
   // The points' magnitudes: the roots of the extreme squares (the root is monotonic: the same
   // numbers as the extremes of the roots, one root each instead of one per point).
   Range r_points;
@@ -139,11 +167,7 @@ VtuStats write_vtu(const std::filesystem::path& out, const BlockSystem& bs, Sour
   PartialFile part(out);
   vtu::File f(part.path(), out.string(), compressor);
   f.header(points, cells,
-           {{"CellData",
-             {r_id.spec("Int64", "block_id"), r_volume.spec("Float64", "volume"),
-              r_inradius.spec("Float64", "inradius"), r_cluster.spec("Int64", "cluster"),
-              r_boundary.spec("UInt8", "boundary"), r_fixed.spec("UInt8", "fixed"),
-              r_aspect.spec("Float64", "aspect_ratio")}},
+           {{"CellData", cell_data},
             {"Points", {[&] {
                auto a = r_points.spec("Float64", "Points");
                a.components = 3;
@@ -177,6 +201,20 @@ VtuStats write_vtu(const std::filesystem::path& out, const BlockSystem& bs, Sour
     stream<std::uint8_t>(f, cells, cells,
                          [&](std::size_t k, auto& o) { o.push_back(is_fixed(block(k)) ? 1 : 0); });
     stream<double>(f, cells, cells, [&](std::size_t k, auto& o) { o.push_back(aspect(block(k))); });
+    if (stab) {
+      stream<std::uint8_t>(f, cells, cells,
+                           [&](std::size_t k, auto& o) { o.push_back(stab->removable[kept[k]]); });
+      stream<std::uint8_t>(f, cells, cells,
+                           [&](std::size_t k, auto& o) { o.push_back(stab->mode[kept[k]]); });
+      stream<double>(f, cells, cells,
+                     [&](std::size_t k, auto& o) { o.push_back(vtu_fos(kept[k])); });
+      stream<double>(f, cells, 3 * cells, [&](std::size_t k, auto& o) {
+        const Vec3& d = stab->direction[kept[k]];
+        o.insert(o.end(), {d.x(), d.y(), d.z()});
+      });
+      stream<std::int32_t>(f, cells, cells,
+                           [&](std::size_t k, auto& o) { o.push_back(stab->generation[kept[k]]); });
+    }
     stream<double>(f, cells, 3 * points, [&](std::size_t k, auto& o) {
       const auto lo = std::size_t(vertex_offset[kept[k]]);
       const auto hi = std::size_t(vertex_offset[kept[k] + 1]);

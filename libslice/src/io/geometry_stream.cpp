@@ -55,7 +55,10 @@ std::unique_ptr<GeometryStream> GeometryStream::open(const fs::path& in, const R
     expect_kind(m->f.root(), FileKind::blocks);
     m->bs.joints = read_joint_groups(m->f.root());
     m->bs.blocks = read_blocks_group(m->f.root(), m->bs.pruned);
-    if (!m->f.root().exists("geometry")) return nullptr;
+    // A file with /stability is read whole (read_blocks): its per-block arrays are carried too.
+    if (!m->f.root().exists("geometry") || m->f.root().exists("stability") ||
+        m->f.root().exists("contacts"))
+      return nullptr;
     m->rows.emplace(m->f.root(), m->bs.blocks, m->vertex_offset, m->face_vertex_offset);
   } catch (const Error&) {
     return nullptr;

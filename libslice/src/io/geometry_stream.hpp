@@ -25,9 +25,10 @@ class GeometryStream {
 
   /// Opens `in` and reads it: each run of /geometry is checked, then handed to `run` (in block
   /// order, one at a time, on any thread) and dropped. Null, with nothing refused, where the file
-  /// has no /geometry or where anything turns up that read_blocks might refuse (a read or check
-  /// error, or a run that fails its check with the tolerance of its own vertices, which the
-  /// file's may pass): read_blocks then decides, and words the error.
+  /// has no /geometry, has /stability or /contacts (read whole), or where anything turns up that
+  /// read_blocks might refuse (a read or check error, or a run that fails its check with the
+  /// tolerance of its own vertices, which the file's may pass): read_blocks then decides, and words
+  /// the error.
   static std::unique_ptr<GeometryStream> open(const std::filesystem::path& in, const Run& run);
   ~GeometryStream();
   GeometryStream(const GeometryStream&) = delete;
