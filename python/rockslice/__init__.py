@@ -7,7 +7,8 @@
 
 rockslice.slice(scene, seed=None, lp='native', threads=0, prune=True) runs the whole chain;
 rockslice.load(path) reads a joints.h5, blocks.h5 or geom.h5. The stages one by one:
-joints(scene), cut(model), prune(model), vertices(model). A scene is a TOML file's path or a
+joints(scene), cut(model), prune(model), vertices(model); stability(model) answers which
+blocks fall (slice-stability). A scene is a TOML file's path or a
 dict with the same tables and keys. Bad input raises rockslice.Error (a ValueError) with the
 line the tools print; a missing file raises FileNotFoundError; a file that cannot be written
 OSError. The work runs off the interpreter's lock; Ctrl-C stops it (KeyboardInterrupt).
@@ -16,10 +17,11 @@ rockslice.yade builds YADE bodies from a model inside yade.
 import os as _os
 
 from ._rockslice import (BOUNDARY, FIXED, REMOVED, Error, Model, __version__, _CutArgs,
-                         _cut, _joints, _prune, _save, _slice, _vertices, _with_joints, load)
+                         _cut, _joints, _prune, _save, _slice, _stability, _vertices, _with_joints,
+                         load)
 from . import _toml
 
-__all__ = ['slice', 'load', 'joints', 'cut', 'prune', 'vertices', 'Model', 'Error',
+__all__ = ['slice', 'load', 'joints', 'cut', 'prune', 'vertices', 'stability', 'Model', 'Error',
            'BOUNDARY', 'REMOVED', 'FIXED', '__version__']
 
 _MAX_SEED = 2 ** 63 - 1
@@ -125,6 +127,20 @@ def vertices(model, threads=0, lp='native', progress=None):
     """The model with the blocks' vertices, face loops and mass properties (slice-vertices,
     which prunes first if the blocks are not): a new Model."""
     return _vertices(model, _cut_args(lp, threads), _call('vertices'), progress)
+
+
+def stability(model, free_faces='', density=2650.0, seismic=0.0, seismic_azimuth=0.0,
+              water_table=None, support_pressure=0.0, fos_target=1.0, threads=0, progress=None):
+    """slice-stability in-process: a new Model with model.stability and model.contacts
+    (docs/stability.md). free_faces: '+z,-x', the domain faces that are free surfaces; the
+    other options as the tool's (density kg/m3, seismic coefficient k towards seismic_azimuth
+    degrees from North, water_table z, support_pressure Pa, fos_target)."""
+    call = _call('stability', free_faces=free_faces or None, density=density, seismic=seismic,
+                 seismic_azimuth=seismic_azimuth, water_table=water_table,
+                 support_pressure=support_pressure, fos_target=fos_target)
+    return _stability(model, str(free_faces), float(density), float(seismic),
+                      float(seismic_azimuth), None if water_table is None else float(water_table),
+                      float(support_pressure), float(fos_target), int(threads), call, progress)
 
 
 def _save_model(self, path, compress=False, provenance=None):

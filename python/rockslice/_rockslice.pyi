@@ -50,6 +50,9 @@ class Model:
     face_vertices: npt.NDArray[np.int64]
     # block shape factors: alpha, beta, beta_k, class, class_kalenchuk (docs/block-shape.md)
     shape: dict[str, npt.NDArray[Any]]
+    # /stability and /contacts (rockslice.stability, slice-stability; docs/stability.md)
+    stability: Optional[dict[str, npt.NDArray[Any]]]
+    contacts: Optional[dict[str, npt.NDArray[Any]]]
     # joints and sets
     joint_count: int
     joint_normal: npt.NDArray[np.float64]

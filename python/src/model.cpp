@@ -417,6 +417,46 @@ vertices). The names are those of the HDF5 datasets (docs/python.md).)");
   c.def_property_readonly("face_joint_fraction", [](py::handle h) {
     return view_vector<double>(h, geometry_of(h, true, "face joint fractions").face_joint_fraction);
   });
+  // /stability and /contacts (slice-stability, rockslice.stability): dicts of views, or None.
+  c.def_property_readonly(
+      "stability",
+      [](py::handle h) -> py::object {
+        const Model& s = self_of(h);
+        if (!s.bs->stability) return py::none();
+        const slice::StabilityResult& r = s.bs->stability->result;
+        py::dict d;
+        d["removable"] = view_vector<std::uint8_t>(h, r.removable);
+        d["mode"] = view_vector<std::uint8_t>(h, r.mode);
+        d["fos"] = view_vector<double>(h, r.fos);
+        d["direction"] = view_vector<double>(h, r.direction, 3);
+        d["generation"] = view_vector<std::int32_t>(h, r.generation);
+        d["planes"] = view_vector<std::int64_t>(h, r.planes, 2);
+        return d;
+      },
+      "None, or a dict of arrays per block (/stability, docs/stability.md): removable, mode "
+      "(0 not exposed, 1 not removable, 2 stable, 3 falls, 4 slides on one plane, 5 on two), "
+      "fos (+inf where nothing can move), direction (B, 3), generation (round it fails in, -1 "
+      "never), planes (B, 2: joints of the sliding planes, -1 none)");
+  c.def_property_readonly(
+      "contacts",
+      [](py::handle h) -> py::object {
+        const Model& s = self_of(h);
+        if (!s.bs->stability) return py::none();
+        const slice::ContactRows& r = s.bs->stability->contacts;
+        py::dict d;
+        d["pairs"] = view_vector<std::int64_t>(h, r.pairs, 2);
+        d["faces"] = view_vector<std::int64_t>(h, r.faces, 2);
+        d["area"] = view_vector<double>(h, r.area);
+        d["centroid"] = view_vector<double>(h, r.centroid, 3);
+        d["normal"] = view_vector<double>(h, r.normal, 3);
+        d["joint"] = view_vector<std::int64_t>(h, r.joint);
+        d["fraction"] = view_vector<double>(h, r.fraction);
+        d["free"] = view_vector<std::uint8_t>(h, r.free);
+        return d;
+      },
+      "None, or a dict of arrays per contact (/contacts, docs/formats.md): pairs (C, 2; -1 the "
+      "domain's boundary), faces (C, 2), area, centroid (C, 3), normal (C, 3: the first block's "
+      "outward normal), joint, fraction (part on the joint's polygon), free");
   c.def_property_readonly(
       "shape", &shapes_of,
       "the block shape factors per block (docs/block-shape.md), a dict of columns: alpha, beta "

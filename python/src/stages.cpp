@@ -15,6 +15,8 @@
 #include "slice/error.hpp"
 #include "slice/hash.hpp"
 #include "slice/scene.hpp"
+#include "slice/stability.hpp"
+#include "slice/threads.hpp"
 #include "slice/vertices.hpp"
 
 namespace rockslice {
@@ -168,6 +170,39 @@ void bind_stages(py::module_& m) {
               if (!bs.pruned) slice::prune_blocks(bs, opt.backend, p, opt.certify, opt.threads);
               slice::compute_geometry(bs, p, opt.threads);
             });
+
+  // slice-stability in-process: the model with /contacts and /stability.
+  m.def(
+      "_stability",
+      [](const Model& model, const std::string& free_faces, double density, double seismic,
+         double seismic_azimuth, std::optional<double> water_table, double support_pressure,
+         double fos_target, int threads, const std::string& call, const py::object& progress) {
+        if (model.stage != Stage::geometry)
+          throw slice::Error("model", std::string("is of stage '") + to_string(model.stage) + "'",
+                             "compute its vertices first: rockslice.vertices(model)");
+        slice::StabilityOptions opt;
+        if (!free_faces.empty()) opt.free_faces = slice::parse_free_faces(free_faces);
+        opt.density = density;
+        opt.seismic = seismic;
+        opt.seismic_azimuth_deg = seismic_azimuth;
+        opt.water_table = water_table;
+        opt.support_pressure = support_pressure;
+        opt.fos_target = fos_target;
+        slice::check_stability_options(opt);
+        slice::BlockSystem bs = *model.bs;
+        run_interruptible(
+            [&](const slice::Progress&) {
+              slice::with_threads(threads,
+                                  [&] { bs.stability = slice::analyse_stability(bs, opt); });
+            },
+            progress);
+        slice::Provenance prov = model.provenance;
+        prov.command_line = call;
+        return make_model(std::move(bs), Stage::geometry, prov);
+      },
+      py::arg("model"), py::arg("free_faces"), py::arg("density"), py::arg("seismic"),
+      py::arg("seismic_azimuth"), py::arg("water_table"), py::arg("support_pressure"),
+      py::arg("fos_target"), py::arg("threads"), py::arg("call"), py::arg("progress"));
 
   m.def(
       "_with_joints",
