@@ -1,5 +1,7 @@
 #include "slice/contacts.hpp"
 
+#include <oneapi/tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <tuple>
@@ -59,11 +61,109 @@ std::vector<Vec3> overlap_polygon(std::vector<Vec3> a, const std::vector<Vec3>& 
 
 }  // namespace
 
+namespace {
+
+/// A contact found, with its overlap polygon, before it is handed to the visitor.
+struct Found {
+  BlockContact contact;
+  std::vector<Vec3> polygon;
+};
+
+/// The contacts across one joint: `faces` are its faces (of kept blocks, and of removed ones if
+/// the scope says so). A uniform grid over the joint's plane, cells about a face's size: each
+/// pair of faces of opposite sides whose boxes overlap is tested once, in the cell that holds
+/// the lower corner of the overlap of their boxes (the sweep along u this replaces met every
+/// face of a 100 m joint's strip: 20 of the 32 s of a million-block model).
+void joint_contacts(const BlockSystem& bs, std::span<const JointFace> faces, double tol,
+                    std::vector<Found>& out) {
+  const Geometry& g = *bs.geometry;
+  const Joint& joint = bs.joints.joints[std::size_t(faces.front().joint)];
+  const JointFrame fr = plane_frame(joint.dip_deg, joint.dip_direction_deg);
+  std::vector<Flat> flats;
+  flats.reserve(faces.size());
+  Vec2 lo = Vec2::Constant(INFINITY), hi = Vec2::Constant(-INFINITY);
+  double size = 0;
+  for (const JointFace& jf : faces) {
+    Flat fl{jf.block, jf.row, jf.plus, {}, {}, Vec2::Constant(INFINITY), Vec2::Constant(-INFINITY)};
+    const auto base = g.vertex_offset[jf.block];
+    for (auto v = g.face_vertex_offset[jf.row]; v < g.face_vertex_offset[jf.row + 1]; ++v) {
+      const Vec3& x = g.vertices[std::size_t(base + g.face_vertices[std::size_t(v)])];
+      const Vec2 q(fr.u.dot(x), fr.v.dot(x));
+      fl.pts.push_back(q);
+      fl.xs.push_back(x);
+      fl.lo = fl.lo.cwiseMin(q);
+      fl.hi = fl.hi.cwiseMax(q);
+    }
+    lo = lo.cwiseMin(fl.lo);
+    hi = hi.cwiseMax(fl.hi);
+    size += (fl.hi - fl.lo).maxCoeff();
+    flats.push_back(std::move(fl));
+  }
+  // Cells of the mean face size, at most about 4 per face.
+  const Vec2 extent = (hi - lo).cwiseMax(Vec2::Constant(tol));
+  double cell = std::max(size / double(flats.size()), tol);
+  const double most = 4.0 * double(flats.size());
+  if ((extent.x() / cell + 1) * (extent.y() / cell + 1) > most)
+    cell = std::sqrt(extent.x() * extent.y() / most) + std::max(extent.x(), extent.y()) / most;
+  const auto nx = std::size_t(extent.x() / cell) + 1, ny = std::size_t(extent.y() / cell) + 1;
+  const auto index = [&](double x, double x0, std::size_t n) {
+    const double k = std::floor((x - x0) / cell);
+    return k <= 0 ? std::size_t(0) : std::min(n - 1, std::size_t(k));
+  };
+  // Cell lists (CSR), faces in order.
+  std::vector<std::size_t> count(nx * ny + 1, 0), members;
+  const auto cells_of = [&](const Flat& f, auto&& each) {
+    const std::size_t x0 = index(f.lo.x() - tol, lo.x(), nx),
+                      x1 = index(f.hi.x() + tol, lo.x(), nx);
+    const std::size_t y0 = index(f.lo.y() - tol, lo.y(), ny),
+                      y1 = index(f.hi.y() + tol, lo.y(), ny);
+    for (std::size_t y = y0; y <= y1; ++y)
+      for (std::size_t x = x0; x <= x1; ++x) each(y * nx + x);
+  };
+  for (const Flat& f : flats) cells_of(f, [&](std::size_t c) { ++count[c + 1]; });
+  for (std::size_t c = 0; c < nx * ny; ++c) count[c + 1] += count[c];
+  members.resize(count.back());
+  {
+    std::vector<std::size_t> next(count.begin(), count.end() - 1);
+    for (std::size_t k = 0; k < flats.size(); ++k)
+      cells_of(flats[k], [&](std::size_t c) { members[next[c]++] = k; });
+  }
+  const auto open_area = [&](std::size_t r) { return g.face_joint_fraction[r] * g.face_area[r]; };
+  for (std::size_t c = 0; c < nx * ny; ++c)
+    for (std::size_t i = count[c]; i < count[c + 1]; ++i)
+      for (std::size_t j = i + 1; j < count[c + 1]; ++j) {
+        const Flat& f = flats[members[i]];
+        const Flat& o = flats[members[j]];
+        if (o.plus == f.plus) continue;
+        const Vec2 low = f.lo.cwiseMax(o.lo), high = f.hi.cwiseMin(o.hi);
+        if (high.x() <= low.x() + tol || high.y() <= low.y() + tol) continue;
+        // Tested in one cell only: the one that holds the lower corner of the boxes' overlap.
+        if (index(low.y(), lo.y(), ny) * nx + index(low.x(), lo.x(), nx) != c) continue;
+        const bool f_removed = bs.blocks[f.block].flags & kRemoved,
+                   o_removed = bs.blocks[o.block].flags & kRemoved;
+        if ((f_removed && o_removed) || !overlap(f, o, tol)) continue;
+        // A convex block has no two faces on one plane back to back: the readers refuse a face
+        // whose joint is not its plane's, so a contact of a block with itself is a defect here.
+        SLICE_ASSERT(f.block != o.block);
+        // a < b, but a kept block first in a contact with a removed one.
+        const bool f_first = f_removed == o_removed ? f.block < o.block : o_removed;
+        const Flat& fa = f_first ? f : o;
+        const Flat& fb = f_first ? o : f;
+        const Vec3 n = fa.plus ? joint.plane.normal : Vec3(-joint.plane.normal);
+        std::vector<Vec3> polygon = overlap_polygon(fa.xs, fb.xs);
+        const auto [area, centroid] = polygon_area_centroid(polygon);
+        out.push_back({{fa.block, fb.block, fa.row, fb.row, faces.front().joint, area, centroid, n,
+                        std::min(open_area(f.row), open_area(o.row))},
+                       std::move(polygon)});
+      }
+}
+
+}  // namespace
+
 void for_each_contact(const BlockSystem& bs, ContactScope scope, const ContactVisitor& visit) {
   if (!bs.geometry)
     throw Error("/geometry", "the blocks have no vertices, volumes or face areas",
                 "run slice-vertices on the blocks file first");
-  const Geometry& g = *bs.geometry;
   const JointSystem& js = bs.joints;
   const double tol = js.options.tolerance * js.length_scale;
   std::vector<JointFace> faces;
@@ -80,63 +180,25 @@ void for_each_contact(const BlockSystem& bs, ContactScope scope, const ContactVi
   }
   std::stable_sort(faces.begin(), faces.end(),
                    [](const JointFace& x, const JointFace& y) { return x.joint < y.joint; });
-  std::vector<Flat> flats;
-  std::vector<std::size_t> order, active;
-  const auto open_area = [&](std::size_t r) { return g.face_joint_fraction[r] * g.face_area[r]; };
-  for (std::size_t lo = 0; lo < faces.size();) {
-    std::size_t hi = lo;
-    while (hi < faces.size() && faces[hi].joint == faces[lo].joint) ++hi;
-    const Joint& joint = js.joints[std::size_t(faces[lo].joint)];
-    const JointFrame fr = plane_frame(joint.dip_deg, joint.dip_direction_deg);
-    flats.clear();
-    for (std::size_t k = lo; k < hi; ++k) {
-      const JointFace& jf = faces[k];
-      Flat fl{
-          jf.block, jf.row, jf.plus, {}, {}, Vec2::Constant(INFINITY), Vec2::Constant(-INFINITY)};
-      const auto base = g.vertex_offset[jf.block];
-      for (auto v = g.face_vertex_offset[jf.row]; v < g.face_vertex_offset[jf.row + 1]; ++v) {
-        const Vec3& x = g.vertices[std::size_t(base + g.face_vertices[std::size_t(v)])];
-        const Vec2 q(fr.u.dot(x), fr.v.dot(x));
-        fl.pts.push_back(q);
-        fl.xs.push_back(x);
-        fl.lo = fl.lo.cwiseMin(q);
-        fl.hi = fl.hi.cwiseMax(q);
-      }
-      flats.push_back(std::move(fl));
-    }
-    // Sweep along u: each face meets the faces of the other side whose u-ranges overlap.
-    order.resize(flats.size());
-    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-      return std::tie(flats[x].lo.x(), x) < std::tie(flats[y].lo.x(), y);
+  std::vector<std::size_t> groups;  // where each joint's faces start
+  for (std::size_t k = 0; k < faces.size(); ++k)
+    if (k == 0 || faces[k].joint != faces[k - 1].joint) groups.push_back(k);
+  groups.push_back(faces.size());
+  // The joints in parallel, a batch at a time; each batch's contacts are handed over in joint
+  // order on this thread, so the visitor sees the same order on any number of threads.
+  constexpr std::size_t kBatchFaces = std::size_t(1) << 18;
+  std::vector<std::vector<Found>> found;
+  for (std::size_t g0 = 0; g0 + 1 < groups.size();) {
+    std::size_t g1 = g0 + 1;
+    while (g1 + 1 < groups.size() && groups[g1] - groups[g0] < kBatchFaces) ++g1;
+    found.assign(g1 - g0, {});
+    tbb::parallel_for(g0, g1, [&](std::size_t k) {
+      joint_contacts(bs, std::span(faces).subspan(groups[k], groups[k + 1] - groups[k]), tol,
+                     found[k - g0]);
     });
-    active.clear();
-    for (const std::size_t k : order) {
-      const Flat& f = flats[k];
-      std::erase_if(active, [&](std::size_t a) { return flats[a].hi.x() <= f.lo.x() + tol; });
-      for (const std::size_t a : active) {
-        const Flat& o = flats[a];
-        if (o.plus == f.plus || o.hi.y() <= f.lo.y() + tol || f.hi.y() <= o.lo.y() + tol) continue;
-        const bool f_removed = bs.blocks[f.block].flags & kRemoved,
-                   o_removed = bs.blocks[o.block].flags & kRemoved;
-        if ((f_removed && o_removed) || !overlap(f, o, tol)) continue;
-        // A convex block has no two faces on one plane back to back: the readers refuse a face
-        // whose joint is not its plane's, so a contact of a block with itself is a defect here.
-        SLICE_ASSERT(f.block != o.block);
-        // a < b, but a kept block first in a contact with a removed one.
-        const bool f_first = f_removed == o_removed ? f.block < o.block : o_removed;
-        const Flat& fa = f_first ? f : o;
-        const Flat& fb = f_first ? o : f;
-        const Vec3 n = fa.plus ? joint.plane.normal : Vec3(-joint.plane.normal);
-        std::vector<Vec3> polygon = overlap_polygon(fa.xs, fb.xs);
-        const auto [area, centroid] = polygon_area_centroid(polygon);
-        visit({fa.block, fb.block, fa.row, fb.row, faces[lo].joint, area, centroid, n,
-               std::min(open_area(f.row), open_area(o.row))},
-              polygon);
-      }
-      active.push_back(k);
-    }
-    lo = hi;
+    for (const auto& joint : found)
+      for (const Found& f : joint) visit(f.contact, f.polygon);
+    g0 = g1;
   }
 }
 

@@ -158,14 +158,20 @@ std::string precision_problem(const Vec3& lo, const Vec3& hi, double tol, const 
 }
 
 Vec3 newell_normal(const std::vector<Vec3>& polygon) {
+  // About the first corner (the same sum for a closed loop): far from the origin the corners'
+  // own cross products would swamp it with rounding.
   Vec3 s = Vec3::Zero();
-  for (std::size_t k = 0; k < polygon.size(); ++k)
-    s += polygon[k].cross(polygon[(k + 1) % polygon.size()]);
+  if (polygon.empty()) return s;
+  const Vec3& o = polygon[0];
+  for (std::size_t k = 1; k + 1 < polygon.size(); ++k)
+    s += (polygon[k] - o).cross(polygon[k + 1] - o);
   return s;
 }
 
 std::pair<double, Vec3> polygon_area_centroid(const std::vector<Vec3>& p) {
   if (p.size() < 3) return {0, p.empty() ? Vec3::Zero() : p[0]};
+  // Relative to the first corner: at 1e6 m from the origin the cross products of the corners
+  // themselves (1e12) would leave 1e-4 m2 of rounding in a face of a few m2.
   const Vec3 n = newell_normal(p);
   const double twice = n.norm();
   if (!(twice > 0)) return {0, p[0]};
@@ -173,11 +179,12 @@ std::pair<double, Vec3> polygon_area_centroid(const std::vector<Vec3>& p) {
   Vec3 sum = Vec3::Zero();
   double w = 0;
   for (std::size_t i = 1; i + 1 < p.size(); ++i) {
-    const double t = (p[i] - p[0]).cross(p[i + 1] - p[0]).dot(u);
-    sum += t * (p[0] + p[i] + p[i + 1]) / 3;
+    const Vec3 a = p[i] - p[0], b = p[i + 1] - p[0];
+    const double t = a.cross(b).dot(u);
+    sum += t * (a + b) / 3;
     w += t;
   }
-  return {twice / 2, w != 0 ? Vec3(sum / w) : p[0]};
+  return {twice / 2, w != 0 ? Vec3(p[0] + sum / w) : p[0]};
 }
 
 std::vector<Vec3> clip_polygon(const std::vector<Vec3>& polygon, const Plane& h) {

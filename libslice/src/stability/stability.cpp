@@ -6,11 +6,11 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
+#include <charconv>
 #include <chrono>
 #include <cmath>
-#include <iomanip>
 #include <map>
-#include <sstream>
 #include <numbers>
 #include <tuple>
 
@@ -295,10 +295,10 @@ bool fails(const BodyAnswer& a, double target) {
          a.s.fos < target;
 }
 
-std::string shortest(double v) {
-  std::ostringstream s;
-  s << std::setprecision(17) << v;
-  return s.str();
+std::string shortest(double v) {  // the shortest text that reads back as v
+  std::array<char, 32> buf{};
+  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
+  return std::string(buf.data(), r.ptr);
 }
 
 }  // namespace
