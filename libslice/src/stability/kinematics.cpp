@@ -18,6 +18,9 @@ bool admissible(std::span<const ContactPlane> planes, const Vec3& d, double tol,
   return true;
 }
 
+/// tan(phi) of a plane: its contacts' area-weighted mean (0 for a plane of no area).
+double tan_phi(const ContactPlane& p) { return p.area > 0 ? p.friction / p.area : 0; }
+
 /// The tension of the planes the motion d leaves, resolved against d (N).
 double tension_against(std::span<const ContactPlane> planes, const Vec3& d, double tol) {
   double sum = 0;
@@ -69,7 +72,8 @@ const char* to_string(FailureMode m) {
 }
 
 BodyStability analyse_body(std::span<const ContactPlane> planes, const Vec3& resultant,
-                           double tol) {
+                           double angle_tol) {
+  const double tol = angle_tol;
   BodyStability out;
   out.removable = removable(planes, tol);
   if (!out.removable) {
@@ -87,8 +91,10 @@ BodyStability analyse_body(std::span<const ContactPlane> planes, const Vec3& res
     return out;
   }
   // Sliding on one plane, or on two: the modes the resultant can drive that leave (or run
-  // along) every other plane, each with its factor of safety. By Goodman & Shi one at most is
-  // admissible; at a tie of rounding the smaller factor of safety is the answer.
+  // along) every other plane, each with its factor of safety. For planes in general position
+  // one at most is admissible (Goodman & Shi). Where three or more planes are parallel to one
+  // line, several can be, and equilibrium alone cannot share the load among them (statically
+  // indeterminate): the smallest factor of safety is the answer, the safe side.
   BodyStability best = out;
   bool found = false;
   const auto consider = [&](FailureMode mode, const Vec3& d, double resisting, double driving,
@@ -110,8 +116,7 @@ BodyStability analyse_body(std::span<const ContactPlane> planes, const Vec3& res
     if (S <= tol) continue;  // straight into the plane: no shear
     const Vec3 d = s / S;
     if (!admissible(planes, d, tol, int(i))) continue;
-    const double resisting =
-        N * R * p.friction / p.area + p.cohesion + tension_against(planes, d, tol);
+    const double resisting = N * R * tan_phi(p) + p.cohesion + tension_against(planes, d, tol);
     consider(FailureMode::slides_one, d, resisting, S * R, p.locked, int(i), -1);
   }
   for (std::size_t i = 0; i < planes.size(); ++i)
@@ -130,8 +135,8 @@ BodyStability analyse_body(std::span<const ContactPlane> planes, const Vec3& res
       const double Np = (rp - cos_pq * rq) / det, Nq = (rq - cos_pq * rp) / det;
       if (Np <= tol || Nq <= tol) continue;
       if (!admissible(planes, d, tol, int(i), int(j))) continue;
-      const double resisting = R * (Np * p.friction / p.area + Nq * q.friction / q.area) +
-                               p.cohesion + q.cohesion + tension_against(planes, d, tol);
+      const double resisting = R * (Np * tan_phi(p) + Nq * tan_phi(q)) + p.cohesion + q.cohesion +
+                               tension_against(planes, d, tol);
       consider(FailureMode::slides_two, d, resisting, along * R, p.locked || q.locked, int(i),
                int(j));
     }

@@ -114,8 +114,9 @@ void find_rows(const BlockSystem& bs, const Geometry& g, const StabilityOptions&
   std::vector<Found> found;
   for_each_contact(bs, {true, true}, [&](const BlockContact& c, std::span<const Vec3> polygon) {
     const bool removed = bs.blocks[c.b].flags & kRemoved;
-    found.push_back({c, std::uint8_t(removed ? 1 : 0),
-                     water_force(std::vector<Vec3>(polygon.begin(), polygon.end()), opt)});
+    const double u =
+        opt.water_table ? water_force(std::vector<Vec3>(polygon.begin(), polygon.end()), opt) : 0;
+    found.push_back({c, std::uint8_t(removed ? 1 : 0), u});
   });
   // The domain's faces: on a face of its bounding box named free, a free surface.
   Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
