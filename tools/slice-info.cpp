@@ -14,6 +14,7 @@
 #include "slice/polytope.hpp"
 #include "slice/scene.hpp"
 #include "slice/shape.hpp"
+#include "slice/stability.hpp"
 
 namespace {
 

@@ -65,6 +65,9 @@ int main(int argc, char** argv) {
           " removable, " + std::to_string(s.failing) + " fail (FoS < " +
           tool::sig(opt.fos_target, 3) + ") in " + std::to_string(s.rounds) + " round" +
           (s.rounds == 1 ? "" : "s") + " (" + tool::fixed(s.seconds, 3) + " s) -> " + out);
+    t.say("time: contacts " + tool::fixed(s.contacts_seconds, 3) + " s, bodies " +
+          tool::fixed(s.bodies_seconds, 3) + " s, analysis of the exposed bodies " +
+          tool::fixed(s.analysis_seconds, 3) + " s");
     t.exit_now();
   });
 }

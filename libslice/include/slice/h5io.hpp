@@ -11,7 +11,7 @@
 
 #include "slice/geometry.hpp"
 #include "slice/scene.hpp"
-#include "slice/stability.hpp"
+#include "slice/stability_data.hpp"
 
 namespace slice {
 

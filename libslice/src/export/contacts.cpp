@@ -18,12 +18,13 @@ struct JointFace {
   std::int64_t joint;
   std::size_t block, row;  // row: the face's row in /blocks/face_*
   bool plus;               // its outward normal points along the joint's normal
+  bool removed;            // its block is
 };
 
 /// A face polygon in the joint's plane coordinates, with its box.
 struct Flat {
   std::size_t block, row;
-  bool plus;
+  bool plus, removed;
   std::vector<Vec2> pts;  // in the joint's (u, v)
   std::vector<Vec3> xs;   // the same, global
   Vec2 lo, hi;
@@ -84,7 +85,14 @@ void joint_contacts(const BlockSystem& bs, std::span<const JointFace> faces, dou
   Vec2 lo = Vec2::Constant(INFINITY), hi = Vec2::Constant(-INFINITY);
   double size = 0;
   for (const JointFace& jf : faces) {
-    Flat fl{jf.block, jf.row, jf.plus, {}, {}, Vec2::Constant(INFINITY), Vec2::Constant(-INFINITY)};
+    Flat fl{jf.block,
+            jf.row,
+            jf.plus,
+            jf.removed,
+            {},
+            {},
+            Vec2::Constant(INFINITY),
+            Vec2::Constant(-INFINITY)};
     const auto base = g.vertex_offset[jf.block];
     for (auto v = g.face_vertex_offset[jf.row]; v < g.face_vertex_offset[jf.row + 1]; ++v) {
       const Vec3& x = g.vertices[std::size_t(base + g.face_vertices[std::size_t(v)])];
@@ -139,8 +147,7 @@ void joint_contacts(const BlockSystem& bs, std::span<const JointFace> faces, dou
         if (high.x() <= low.x() + tol || high.y() <= low.y() + tol) continue;
         // Tested in one cell only: the one that holds the lower corner of the boxes' overlap.
         if (index(low.y(), lo.y(), ny) * nx + index(low.x(), lo.x(), nx) != c) continue;
-        const bool f_removed = bs.blocks[f.block].flags & kRemoved,
-                   o_removed = bs.blocks[o.block].flags & kRemoved;
+        const bool f_removed = f.removed, o_removed = o.removed;
         if ((f_removed && o_removed) || !overlap(f, o, tol)) continue;
         // A convex block has no two faces on one plane back to back: the readers refuse a face
         // whose joint is not its plane's, so a contact of a block with itself is a defect here.
@@ -173,8 +180,9 @@ void for_each_contact(const BlockSystem& bs, ContactScope scope, const ContactVi
     for (const Face& f : blk.faces) {
       if ((scope.removed || !(blk.flags & kRemoved)) && f.joint >= 0 &&
           (scope.construction || js.joints[std::size_t(f.joint)].kind != JointKind::construction))
-        faces.push_back(
-            {f.joint, b, row, f.normal.dot(js.joints[std::size_t(f.joint)].plane.normal) > 0});
+        faces.push_back({f.joint, b, row,
+                         f.normal.dot(js.joints[std::size_t(f.joint)].plane.normal) > 0,
+                         (blk.flags & kRemoved) != 0});
       ++row;
     }
   }

@@ -347,7 +347,11 @@ StabilityData analyse_stability(const BlockSystem& bs, const StabilityOptions& o
   const Geometry& g = *bs.geometry;
   StabilityData out;
   std::vector<double> water;
+  const auto since = [](auto t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
   find_rows(bs, g, opt, out.contacts, water);
+  const double contacts_seconds = since(start);
   const ContactRows& rows = out.contacts;
   std::vector<RowStrength> strength(rows.size());
   for (std::size_t r = 0; r < rows.size(); ++r) {
@@ -356,6 +360,8 @@ StabilityData analyse_stability(const BlockSystem& bs, const StabilityOptions& o
   }
   Bodies bodies = make_bodies(bs, g);
   make_entries(bs, rows, bodies);
+  const auto analysis_start = std::chrono::steady_clock::now();
+  const double bodies_seconds = since(start) - contacts_seconds;
 
   // Rounds: every body that can move, then the ones next to a body that failed.
   const std::size_t n = bodies.size();
@@ -417,7 +423,10 @@ StabilityData analyse_stability(const BlockSystem& bs, const StabilityOptions& o
       res.planes[b] = a.joints;
     }
   }
-  st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  st.analysis_seconds = since(analysis_start);
+  st.contacts_seconds = contacts_seconds;
+  st.bodies_seconds = bodies_seconds;
+  st.seconds = since(start);
   if (stats) *stats = st;
   return out;
 }

@@ -1,0 +1,59 @@
+# rockslice.stability (issue 41): the arrays slice-stability writes, in-process; the file the
+# tool writes, byte for byte given its provenance; loaded files carry them; bad options raise.
+
+import h5py
+import numpy as np
+import pytest
+
+import rockslice
+from conftest import data, run_tool, tool_pipeline
+
+STABILITY = ('removable', 'mode', 'fos', 'direction', 'generation', 'planes')
+CONTACTS = ('pairs', 'faces', 'area', 'centroid', 'normal', 'joint', 'fraction', 'free')
+
+
+def test_stability_equals_the_tool(tmp_path):
+    _, _, g = tool_pipeline(tmp_path, data('rock-slope.toml'))
+    stab = tmp_path / 'stab.h5'
+    run_tool('slice-stability', g, '-o', stab, '--free-faces', '+z,+x', '--seismic', '0.05',
+             '--water-table', '20')
+    model = rockslice.stability(rockslice.load(g), free_faces='+z,+x', seismic=0.05,
+                                water_table=20)
+    with h5py.File(stab, 'r') as f:
+        for name in STABILITY:
+            want = f['stability'][name][()]
+            got = model.stability[name]
+            assert got.dtype == want.dtype, name
+            assert np.array_equal(got, want), name
+        for name in CONTACTS:
+            assert np.array_equal(model.contacts[name], f['contacts'][name][()]), name
+        # Something moves, and something does not: the check is not of empty arrays.
+        assert (f['stability']['generation'][()] >= 0).any()
+        assert (f['stability']['mode'][()] == 0).any()
+    # The tool's file, the same bytes with its provenance; a loaded file has the arrays.
+    loaded = rockslice.load(stab)
+    same = tmp_path / 'same.h5'
+    model.save(same, provenance=loaded.provenance)
+    assert same.read_bytes() == stab.read_bytes()
+    assert np.array_equal(loaded.stability['fos'], model.stability['fos'])
+    # A geom.h5 without it: None.
+    assert rockslice.load(g).stability is None and rockslice.load(g).contacts is None
+
+
+@pytest.mark.parametrize('kwargs, words', [
+    ({'density': -1}, '--density'),
+    ({'free_faces': '+q'}, '--free-faces'),
+    ({'water_table': float('nan')}, '--water-table'),
+    ({'fos_target': 0}, '--fos-target'),
+])
+def test_bad_options_raise(tmp_path, kwargs, words):
+    _, _, g = tool_pipeline(tmp_path, data('cube-3sets.toml'))
+    with pytest.raises(rockslice.Error) as e:
+        rockslice.stability(rockslice.load(g), **kwargs)
+    assert words in str(e.value)
+
+
+def test_needs_vertices(tmp_path):
+    with pytest.raises(rockslice.Error) as e:
+        rockslice.stability(rockslice.joints(data('cube-3sets.toml')))
+    assert 'vertices' in str(e.value)
