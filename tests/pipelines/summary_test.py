@@ -1,17 +1,31 @@
 #!/usr/bin/python3
-"""ctest "pipelines/summary counts a cluster as one body" (issue 24, item 5).
+"""ctest "pipelines/summary counts a cluster as one body" (issue 24, item 5) and
+"pipelines/summary sums the failed volume of slice-stability outputs" (issue 41, item 6).
 
-    summary_test.py TOOLS_DIR SOURCE_DIR
+    summary_test.py [bodies|stability] TOOLS_DIR SOURCE_DIR
 
-Slices data/slope.toml (construction joints outline the slope face: clusters, and removed air
-blocks) for seeds 1 and 2 with the real tools, runs pipelines/summary and pipelines/plot on the
-two geom.h5, and checks every by-body and by-piece figure of realizations.csv, volume-cdf.csv
-and volume-band.csv against figures computed here from the files with h5py in plain Python
-(dictionaries, sorted lists and loops; no code shared with the scripts). Any failure, a missing
-tool or module included, fails the test: nothing is skipped.
+bodies (the default): slices data/slope.toml (construction joints outline the slope face:
+clusters, and removed air blocks) for seeds 1 and 2 with the real tools, runs pipelines/summary
+and pipelines/plot on the two geom.h5, and checks every by-body and by-piece figure of
+realizations.csv, volume-cdf.csv and volume-band.csv against figures computed here from the
+files with h5py in plain Python (dictionaries, sorted lists and loops; no code shared with the
+scripts).
+
+stability: slices the same two seeds, runs slice-stability on each (free faces +z and +x, a
+seismic load of 0.3 towards the East: 18 and 23 blocks fail), runs pipelines/summary on the two
+stab.h5, and checks realizations.csv's failed_blocks, failed_volume,
+largest_failed_block_volume and min_fos against sums over the kept blocks computed here with
+h5py (/stability/generation >= 0, /geometry/volume) and against slice-info --json; that the
+body figures are those of the geom.h5 they came from; that stability.png is written; that a
+summary of the geom.h5 files has none of this; and that a mixed sweep (one geom.h5, one
+stab.h5) leaves the columns empty for the file without /stability.
+
+Any failure, a missing tool or module included, fails the test: nothing is skipped.
 """
 import bisect
 import csv
+import json
+import math
 import os
 import statistics
 import subprocess
@@ -96,18 +110,113 @@ def read_csv(path):
 
 
 def main():
-    tools, source = sys.argv[1], sys.argv[2]
+    args = sys.argv[1:]
+    mode = args.pop(0) if args and args[0] in ("bodies", "stability") else "bodies"
+    if len(args) != 2:
+        raise AssertionError("usage: summary_test.py [bodies|stability] TOOLS_DIR SOURCE_DIR")
+    return bodies(*args) if mode == "bodies" else stability(*args)
+
+
+def slice_seeds(tools, scene, tmp):
+    """joints, cut --prune and vertices for each seed: the geom.h5 files."""
+    geoms = []
+    for seed in SEEDS:
+        d = os.path.join(tmp, "seed-%d" % seed)
+        os.makedirs(d)
+        j, b, g = (os.path.join(d, n) for n in ("joints.h5", "blocks.h5", "geom.h5"))
+        run([os.path.join(tools, "slice-joints"), "-q", scene, "--seed", str(seed), "-o", j])
+        run([os.path.join(tools, "slice-cut"), "-q", j, "-o", b, "--prune"])
+        run([os.path.join(tools, "slice-vertices"), "-q", b, "-o", g])
+        geoms.append(g)
+    return geoms
+
+
+def failures(path):
+    """What summary's stability columns must hold, summed here over the kept blocks."""
+    with h5py.File(path, "r") as f:
+        volume = [float(x) for x in f["geometry/volume"][:]]
+        flags = [int(x) for x in f["blocks/flags"][:]]
+        generation = [int(x) for x in f["stability/generation"][:]]
+        fos = [float(x) for x in f["stability/fos"][:]]
+    failed = [v for v, fl, g in zip(volume, flags, generation) if not fl & 2 and g >= 0]
+    return {"failed_blocks": len(failed), "failed_volume": math.fsum(failed),
+            "largest_failed_block_volume": max(failed, default=0.0),
+            "min_fos": min((x for x, fl in zip(fos, flags) if not fl & 2), default=math.inf)}
+
+
+def stability(tools, source):
+    scene = os.path.join(source, "data", "slope.toml")
+    names = ("failed_blocks", "failed_volume", "largest_failed_block_volume", "min_fos")
+    with tempfile.TemporaryDirectory(prefix="rockslice-summary.") as tmp:
+        geoms = slice_seeds(tools, scene, tmp)
+        stabs = []
+        for g in geoms:
+            s = os.path.join(os.path.dirname(g), "stab.h5")
+            run([os.path.join(tools, "slice-stability"), "-q", g, "-o", s, "--free-faces",
+                 "+z,+x", "--seismic", "0.3", "--seismic-azimuth", "90"])
+            stabs.append(s)
+        summary = os.path.join(source, "pipelines", "summary")
+        out, plain, mixed = (os.path.join(tmp, n) for n in ("stab", "geom", "mixed"))
+        r = run(["/usr/bin/python3", summary] + stabs + ["-o", out])
+        check("stability.png" in r.stderr and "failed volume median" in r.stderr,
+              "summary's line does not name stability.png and the failed volume: " + r.stderr)
+        run(["/usr/bin/python3", summary] + geoms + ["-o", plain])
+        rows = {int(row["seed"]): row for row in read_csv(os.path.join(out, "realizations.csv"))}
+        plain_rows = {int(row["seed"]): row
+                      for row in read_csv(os.path.join(plain, "realizations.csv"))}
+        check(sorted(rows) == list(SEEDS), "rows are not seeds 1, 2")
+        for seed, stab in zip(SEEDS, stabs):
+            row, want = rows[seed], failures(stab)
+            info = json.loads(run([os.path.join(tools, "slice-info"), "--json", stab]).stdout)
+            info = info["stability"]
+            check(int(row["failed_blocks"]) == want["failed_blocks"] == info["failing"],
+                  "seed %d: failed_blocks %s, the file %d, slice-info %d"
+                  % (seed, row["failed_blocks"], want["failed_blocks"], info["failing"]))
+            close(float(row["failed_volume"]), want["failed_volume"],
+                  "seed %d failed_volume" % seed)
+            close(float(row["failed_volume"]), info["failing_volume"],
+                  "seed %d failed_volume (slice-info)" % seed)
+            close(float(row["largest_failed_block_volume"]), want["largest_failed_block_volume"],
+                  "seed %d largest_failed_block_volume" % seed)
+            close(float(row["largest_failed_block_volume"]),
+                  info["largest_failing_block"]["volume"],
+                  "seed %d largest_failed_block_volume (slice-info)" % seed)
+            close(float(row["min_fos"]), want["min_fos"], "seed %d min_fos" % seed)
+            # The scene must exercise the sums: several blocks fail, the largest is not all.
+            check(want["failed_blocks"] >= 2 and want["largest_failed_block_volume"]
+                  < want["failed_volume"], "seed %d: fewer than 2 blocks fail" % seed)
+            # stab.h5 holds geom.h5: the same bodies.
+            for k, v in plain_rows[seed].items():
+                check(row[k] == v, "seed %d: %s is %s from stab.h5, %s from geom.h5"
+                      % (seed, k, row[k], v))
+        png = os.path.join(out, "stability.png")
+        with open(png, "rb") as f:
+            check(f.read(8) == b"\x89PNG\r\n\x1a\n", png + " is not a PNG")
+        # Without /stability: no columns, no plot.
+        with open(os.path.join(plain, "realizations.csv")) as f:
+            header = f.readline().strip().split(",")
+        check(not set(names) & set(header), "geom.h5 summary has stability columns: %s" % header)
+        check(not os.path.exists(os.path.join(plain, "stability.png")),
+              "geom.h5 summary wrote stability.png")
+        # A mixed sweep: the columns are empty for the file without /stability.
+        run(["/usr/bin/python3", summary, geoms[0], stabs[1], "-o", mixed])
+        rows = {int(row["seed"]): row for row in read_csv(os.path.join(mixed, "realizations.csv"))}
+        check(all(rows[SEEDS[0]][n] == "" for n in names), "mixed: seed 1 (geom.h5) not empty")
+        close(float(rows[SEEDS[1]]["failed_volume"]), failures(stabs[1])["failed_volume"],
+              "mixed: seed 2 failed_volume")
+        check(os.path.exists(os.path.join(mixed, "stability.png")), "mixed: no stability.png")
+        done = {s: failures(p) for s, p in zip(SEEDS, stabs)}
+    print("summary_test: ok: %s" % ", ".join(
+        "seed %d: %d blocks fail, %.4g m3, the largest %.4g m3" % (
+            s, d["failed_blocks"], d["failed_volume"], d["largest_failed_block_volume"])
+        for s, d in done.items()))
+    return 0
+
+
+def bodies(tools, source):
     scene = os.path.join(source, "data", "slope.toml")
     with tempfile.TemporaryDirectory(prefix="rockslice-summary.") as tmp:
-        geoms = []
-        for seed in SEEDS:
-            d = os.path.join(tmp, "seed-%d" % seed)
-            os.makedirs(d)
-            j, b, g = (os.path.join(d, n) for n in ("joints.h5", "blocks.h5", "geom.h5"))
-            run([os.path.join(tools, "slice-joints"), "-q", scene, "--seed", str(seed), "-o", j])
-            run([os.path.join(tools, "slice-cut"), "-q", j, "-o", b, "--prune"])
-            run([os.path.join(tools, "slice-vertices"), "-q", b, "-o", g])
-            geoms.append(g)
+        geoms = slice_seeds(tools, scene, tmp)
         out = os.path.join(tmp, "summary")
         r = run(["/usr/bin/python3", os.path.join(source, "pipelines", "summary")] + geoms
                 + ["-o", out])
