@@ -32,10 +32,12 @@ struct BlockContact {
 struct ContactScope {
   bool construction = false;
   bool removed = false;
+  bool polygons = false;  // hand the visitor each overlap polygon (else an empty span)
 };
 
-/// Called with each contact and the polygon of its overlap (global frame, counter-clockwise
-/// about `normal`), joint by joint, in an order that depends on the blocks only.
+/// Called with each contact and, if the scope asks for them, the polygon of its overlap (global
+/// frame, counter-clockwise about `normal`), joint by joint, in an order that depends on the
+/// blocks only.
 using ContactVisitor = std::function<void(const BlockContact&, std::span<const Vec3> polygon)>;
 void for_each_contact(const BlockSystem& bs, ContactScope scope, const ContactVisitor& visit);
 

@@ -76,7 +76,7 @@ struct Found {
 /// the lower corner of the overlap of their boxes (the sweep along u this replaces met every
 /// face of a 100 m joint's strip: 20 of the 32 s of a million-block model).
 void joint_contacts(const BlockSystem& bs, std::span<const JointFace> faces, double tol,
-                    std::vector<Found>& out) {
+                    bool polygons, std::vector<Found>& out) {
   const Geometry& g = *bs.geometry;
   const Joint& joint = bs.joints.joints[std::size_t(faces.front().joint)];
   const JointFrame fr = plane_frame(joint.dip_deg, joint.dip_direction_deg);
@@ -159,6 +159,7 @@ void joint_contacts(const BlockSystem& bs, std::span<const JointFace> faces, dou
         const Vec3 n = fa.plus ? joint.plane.normal : Vec3(-joint.plane.normal);
         std::vector<Vec3> polygon = overlap_polygon(fa.xs, fb.xs);
         const auto [area, centroid] = polygon_area_centroid(polygon);
+        if (!polygons) polygon = {};
         out.push_back({{fa.block, fb.block, fa.row, fb.row, faces.front().joint, area, centroid, n,
                         std::min(open_area(f.row), open_area(o.row))},
                        std::move(polygon)});
@@ -202,7 +203,7 @@ void for_each_contact(const BlockSystem& bs, ContactScope scope, const ContactVi
     found.assign(g1 - g0, {});
     tbb::parallel_for(g0, g1, [&](std::size_t k) {
       joint_contacts(bs, std::span(faces).subspan(groups[k], groups[k + 1] - groups[k]), tol,
-                     found[k - g0]);
+                     scope.polygons, found[k - g0]);
     });
     for (const auto& joint : found)
       for (const Found& f : joint) visit(f.contact, f.polygon);

@@ -112,7 +112,8 @@ void find_rows(const BlockSystem& bs, const Geometry& g, const StabilityOptions&
     double water;
   };
   std::vector<Found> found;
-  for_each_contact(bs, {true, true}, [&](const BlockContact& c, std::span<const Vec3> polygon) {
+  const ContactScope scope{true, true, opt.water_table.has_value()};
+  for_each_contact(bs, scope, [&](const BlockContact& c, std::span<const Vec3> polygon) {
     const bool removed = bs.blocks[c.b].flags & kRemoved;
     const double u =
         opt.water_table ? water_force(std::vector<Vec3>(polygon.begin(), polygon.end()), opt) : 0;
@@ -156,16 +157,31 @@ void find_rows(const BlockSystem& bs, const Geometry& g, const StabilityOptions&
       found.push_back({c, std::uint8_t(free ? 1 : 0), water_force(polygon, opt)});
     }
   }
-  const auto key = [](const Found& x) {
-    const auto signed_b = x.c.b == std::size_t(-1) ? std::int64_t(-1) : std::int64_t(x.c.b);
-    return std::make_tuple(x.c.a, signed_b, x.c.joint, x.c.face_a, x.c.face_b);
-  };
-  std::sort(found.begin(), found.end(),
-            [&](const Found& x, const Found& y) { return key(x) < key(y); });
   const auto signed_row = [](std::size_t v) {
     return v == std::size_t(-1) ? std::int64_t(-1) : std::int64_t(v);
   };
-  for (const Found& x : found) {
+  // Sorted by (a, b, joint, faces), b = -1 first: compact keys, then the rows in their order.
+  struct Key {
+    std::size_t a;
+    std::int64_t b, joint;
+    std::size_t face_a, face_b, index;
+    bool operator<(const Key& o) const {
+      return std::tie(a, b, joint, face_a, face_b) <
+             std::tie(o.a, o.b, o.joint, o.face_a, o.face_b);
+    }
+  };
+  std::vector<Key> keys(found.size());
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    const BlockContact& c = found[i].c;
+    keys[i] = {c.a, signed_row(c.b), c.joint, c.face_a, c.face_b, i};
+  }
+  std::sort(keys.begin(), keys.end());
+  const std::size_t n = found.size();
+  rows.pairs.reserve(n), rows.faces.reserve(n), rows.area.reserve(n), rows.centroid.reserve(n);
+  rows.normal.reserve(n), rows.joint.reserve(n), rows.fraction.reserve(n), rows.free.reserve(n);
+  water.reserve(n);
+  for (const Key& k : keys) {
+    const Found& x = found[k.index];
     const BlockContact& c = x.c;
     rows.pairs.push_back({std::int64_t(c.a), signed_row(c.b)});
     rows.faces.push_back({std::int64_t(c.face_a), signed_row(c.face_b)});
