@@ -17,6 +17,7 @@
 
 #include "slice/contacts.hpp"
 #include "slice/h5io.hpp"
+#include "support/pipeline.hpp"
 #include "support/support.hpp"
 
 using test::run_tool;
@@ -26,21 +27,11 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 double rad(double deg) { return deg * kPi / 180; }
 
-/// joints -> cut + prune -> vertices -> YADE script of a scene text; returns geom.h5's path.
+/// joints -> cut + prune -> vertices (tmp/scene.toml, joints.h5, blocks.h5, geom.h5) -> YADE
+/// script tmp/model.py of a scene text; returns geom.h5's path.
 std::string model_of(const test::TempDir& tmp, const std::string& scene,
                      const std::vector<std::string>& export_args) {
-  const std::string toml = (tmp / "scene.toml").string(), joints = (tmp / "joints.h5").string(),
-                    blocks = (tmp / "blocks.h5").string(), geom = (tmp / "geom.h5").string(),
-                    model = (tmp / "model.py").string();
-  test::write_text(toml, scene);
-  for (const auto& [tool, args] : std::vector<std::pair<std::string, std::vector<std::string>>>{
-           {"slice-joints", {toml, "-o", joints}},
-           {"slice-cut", {joints, "--prune", "-o", blocks}},
-           {"slice-vertices", {blocks, "-o", geom}}}) {
-    const auto r = run_tool(tool, args);
-    INFO(tool << ": " << r.err);
-    REQUIRE(r.exit_code == 0);
-  }
+  const std::string geom = test::geometry_of_text(tmp, scene), model = (tmp / "model.py").string();
   std::vector<std::string> args = {geom, "--format", "yade", "-o", model};
   args.insert(args.end(), export_args.begin(), export_args.end());
   const auto e = run_tool("slice-export", args);

@@ -9,18 +9,37 @@ extern char** environ;
 
 namespace test {
 
+namespace {
+
+/// Runs one tool of a pipeline: exit 0 required, its stderr shown if not.
+void step(const std::string& tool, const std::vector<std::string>& args) {
+  const auto r = run_tool(tool, args);
+  INFO(tool << ": " << r.err);
+  REQUIRE(r.exit_code == 0);
+}
+
+}  // namespace
+
 std::string run_pipeline(const TempDir& tmp, const std::string& scene, Stage last) {
   const std::string joints = (tmp / "joints.h5").string(), blocks = (tmp / "blocks.h5").string(),
                     geom = (tmp / "geom.h5").string();
-  const auto step = [](const std::string& tool, const std::vector<std::string>& args) {
-    const auto r = run_tool(tool, args);
-    INFO(tool << ": " << r.err);
-    REQUIRE(r.exit_code == 0);
-  };
   step("slice-joints", {data_path(scene).string(), "-o", joints});
   if (last == Stage::joints) return joints;
   step("slice-cut", {joints, "-o", blocks, "--prune"});
   if (last == Stage::blocks) return blocks;
+  step("slice-vertices", {blocks, "-o", geom});
+  return geom;
+}
+
+std::string geometry_of_text(const TempDir& tmp, const std::string& scene,
+                             const std::string& prefix) {
+  const std::string toml = (tmp / (prefix + "scene.toml")).string(),
+                    joints = (tmp / (prefix + "joints.h5")).string(),
+                    blocks = (tmp / (prefix + "blocks.h5")).string(),
+                    geom = (tmp / (prefix + "geom.h5")).string();
+  write_text(toml, scene);
+  step("slice-joints", {toml, "-o", joints});
+  step("slice-cut", {joints, "--prune", "-o", blocks});
   step("slice-vertices", {blocks, "-o", geom});
   return geom;
 }

@@ -17,6 +17,13 @@ enum class Stage {
 /// returns the path of the last output.
 std::string run_pipeline(const TempDir& tmp, const std::string& scene, Stage last);
 
+/// The same three tools on a scene text, written to tmp/<prefix>scene.toml: slice-joints ->
+/// <prefix>joints.h5, slice-cut --prune -> <prefix>blocks.h5, slice-vertices -> <prefix>geom.h5
+/// (Catch2 REQUIREs every exit code, INFO shows the tool's stderr). A prefix keeps two scenes,
+/// or run_pipeline's files, apart in one tmp. Returns the path of <prefix>geom.h5.
+std::string geometry_of_text(const TempDir& tmp, const std::string& scene,
+                             const std::string& prefix = "");
+
 /// Table 3's persistent scene at 2.0 m spacing, cut and pruned into tmp/b.h5 (125,313 blocks:
 /// slice-vertices takes about a second to write their geometry, long enough to catch it
 /// mid-write). Returns the path of b.h5.
