@@ -288,3 +288,54 @@ TEST_CASE("issue-25 an HDF5 filter this build lacks (LZF): says so, not 'can't o
   CHECK_FALSE(test::fs::exists(out));
   check_refused(run_tool("slice-info", {j}), "slice-info", {"compression filter \"lzf\""});
 }
+
+// Issue 42 items 6-10 through the real tools (the library's side: tests/unit/h5io_test.cpp and
+// input_refusals_test.cpp): exit 1, one line, nothing written.
+TEST_CASE("issue-42 inputs that passed unchecked are refused by the tools", "[tools][refusals]") {
+  test::TempDir tmp;
+  // Four 10 x 10 x 20 m blocks: contacts of 200 m2.
+  const std::string geom =
+      test::geometry_of_text(tmp,
+                             "[domain]\nbox = { min = [0, 0, 0], max = [20, 20, 20] }\n"
+                             "[[joints]]\ndip = 90\ndip_direction = 90\npoint = [10, 5, 5]\n"
+                             "[[joints]]\ndip = 90\ndip_direction = 0\npoint = [5, 10, 5]\n");
+  const auto out = tmp / "out";
+  const auto exporting = [&](const std::vector<std::string>& options) {
+    std::vector<std::string> args = {geom, "-o", out.string()};
+    args.insert(args.end(), options.begin(), options.end());
+    return run_tool("slice-export", args);
+  };
+  SECTION("a /blocks/flags bit that no tool writes") {
+    edit_h5(geom, "v = f['blocks/flags'][...]; v[3] = 9; f['blocks/flags'][...] = v");
+    const std::vector<std::string> words = {"/blocks/flags row 3 is 9",
+                                            "only bits 0 (boundary), 1 (removed) and 2 (fixed)"};
+    check_refused(run_tool("slice-info", {geom}), "slice-info", words);
+    check_refused(exporting({"--format", "yade"}), "slice-export", words);
+    check_refused(exporting({"--format", "vtu"}), "slice-export", words);
+  }
+  SECTION("--yade-steps past the integers (clamped to the largest int64)") {
+    check_refused(exporting({"--format", "yade", "--yade-steps", "99999999999999999999"}),
+                  "slice-export", {"--yade-steps", "more than 1000000000000000"});
+  }
+  SECTION("--3dec-jkn 1e308: a contact stiffness of inf, a time step of 0 s") {
+    check_refused(exporting({"--format", "3dec", "--3dec-jkn", "1e308"}), "slice-export",
+                  {"--3dec-jkn 1e+308", "largest contact (200 m2)", "time step 0 s"});
+    CHECK_FALSE(test::fs::exists(tmp / "out.dat"));
+  }
+  SECTION("a cylinder with ends at 1e155") {
+    check_refused(
+        run_tool("slice-extract", {geom, "--cylinder=-1e155,5,5,1e155,5,5,3", "-o", out.string()}),
+        "slice-extract", {"--cylinder", "reaches 1e+155", "doubles step by"});
+  }
+  SECTION("a surface below the whole domain") {
+    std::string asc = "ncols 4\nnrows 4\nxllcorner -10\nyllcorner -10\ncellsize 10\n";
+    for (int row = 0; row < 4; ++row) asc += "-5 -5 -5 -5\n";
+    test::write_text(tmp / "t.asc", asc);
+    test::write_text(tmp / "s.toml",
+                     "[domain]\nbox = { min = [0, 0, 0], max = [20, 20, 20] }\n"
+                     "[[zones]]\nsurface = \"t.asc\"\n");
+    check_refused(run_tool("slice-joints", {(tmp / "s.toml").string(), "-o", out.string()}),
+                  "slice-joints", {"s.toml:", "below the domain everywhere", "remove all of it"});
+  }
+  CHECK_FALSE(test::fs::exists(out));
+}

@@ -714,6 +714,12 @@ std::vector<BadFile> bad_files() {
        "/blocks/face_d row 11 is inf; regenerate it with slice-cut"},
       {"NaN origin", B, [](const Group& r) { poke<double>(r, "blocks", "origin", 4, kNaN, 3); },
        "/blocks/origin row 1 is (-12.5, nan, 99.0000001)"},
+      // issue 42 item 7: /blocks/flags has three bits; the others were never checked.
+      {"flags bit 3", B, [](const Group& r) { poke<std::uint8_t>(r, "blocks", "flags", 2, 8); },
+       "/blocks/flags row 2 is 8; only bits 0 (boundary), 1 (removed) and 2 (fixed) are "
+       "defined, so it is 0 to 7"},
+      {"flags 255", B, [](const Group& r) { poke<std::uint8_t>(r, "blocks", "flags", 0, 255); },
+       "/blocks/flags row 0 is 255"},
       {"pruned 2", B,
        [](const Group& r) { set_attribute<std::int64_t>(r.open_group("blocks"), "pruned", 2); },
        "/blocks attribute pruned is 2; expected 0 or 1"},
@@ -739,6 +745,19 @@ TEST_CASE("readers refuse bad files and name the file and dataset", "[h5io]") {
       CHECK_THAT(msg, Contains(p.string() + ": " + bad.expect));
       CHECK(msg.find('\n') == std::string::npos);
     }
+  }
+}
+
+TEST_CASE("every combination of the three block flags reads back", "[h5io]") {
+  // slice-cut writes removed with boundary or fixed (a zone reaching the base or a fixed side):
+  // the check of issue 42 item 7 refuses only the bits no tool writes.
+  for (std::uint8_t flags = 0; flags < 8; ++flags) {
+    CAPTURE(int(flags));
+    test::TempDir dir;
+    const fs::path p = spoiled(dir, FileKind::blocks, [&](const Group& r) {
+      poke<std::uint8_t>(r, "blocks", "flags", 1, flags);
+    });
+    CHECK(slice::read_blocks(p).blocks.at(1).flags == flags);
   }
 }
 

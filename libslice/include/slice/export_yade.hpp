@@ -51,6 +51,9 @@ YadeLaw parse_yade_law(const std::string& name);
 /// that faces that touch open a little (the script's comment before SHRINK says why).
 inline constexpr double kYadeInitialGap = 1e-6;
 
+/// The most steps --yade-steps may ask for (issue 42 item 9): 30 years at a million a second.
+inline constexpr long kYadeMaxSteps = 1'000'000'000'000'000;
+
 struct YadeOptions {
   YadeShape shape = YadeShape::polyhedra;
   YadeLaw law = YadeLaw::mohr_coulomb;

@@ -190,11 +190,22 @@ void time_step(const BlockSystem& bs, const ThreeDecOptions& opt,
           st.max_contact_area = std::max(st.max_contact_area, g.face_area[row]);
   }
   st.max_contact_stiffness = opt.jkn * st.max_contact_area;
-  if (st.dem.moving_block < 0 || !(st.max_contact_stiffness > 0)) return;
+  if (st.dem.moving_block < 0 || !(st.max_contact_area > 0)) return;
   st.min_mass = opt.density * st.dem.moving_volume;
   // 3DEC theory, rigid blocks: dt = frac x 2 sqrt(m_min / k_max) (docs/3dec.md).
   st.critical_timestep =
       kThreeDecTimestepFrac * 2 * std::sqrt(st.min_mass / st.max_contact_stiffness);
+  // Options each finite but past the doubles together (--3dec-jkn 1e308 times a contact's area
+  // is inf) would give a time step of 0 s or inf (issue 42 item 9).
+  if (!(std::isfinite(st.max_contact_stiffness) && std::isfinite(st.critical_timestep) &&
+        st.critical_timestep > 0))
+    throw Error("--3dec-jkn " + num_text(opt.jkn),
+                "with the largest contact (" + num_text(st.max_contact_area) +
+                    " m2) and --3dec-density " + num_text(opt.density) +
+                    " the contact stiffness would be " + num_text(st.max_contact_stiffness) +
+                    " N/m and the time step " + num_text(st.critical_timestep) + " s",
+                "give a stiffness and density of the model's order (defaults 1e10 Pa/m, 2650 "
+                "kg/m3)");
 }
 
 void write_grid(TextOut& out, const BlockSystem& bs, ThreeDecStats& st,

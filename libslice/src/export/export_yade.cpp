@@ -113,6 +113,13 @@ void YadeOptions::validate() const {
       throw Error(std::string("--") + name, "is " + num(v), "give a positive number");
   };
   if (steps < 0) throw Error("--yade-steps", "is " + std::to_string(steps), "give 0 or more");
+  // A number past long's range reaches here clamped to its largest value (CLI11 reads 1e20 so):
+  // refuse what no run would ask for, 1e15 steps being 30 years at a million steps a second.
+  if (steps > kYadeMaxSteps)
+    throw Error("--yade-steps",
+                "is " + std::to_string(steps) + ", more than " + std::to_string(kYadeMaxSteps) +
+                    " (or past the integers' range)",
+                "give a whole number of steps from 0 to 1000000000000000");
   positive(density, "yade-density");
   positive(young, "yade-young");
   positive(poisson, "yade-poisson");
@@ -218,6 +225,14 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
   for (const YadeContact& c : contacts) st.bridges += c.bridge ? 1 : 0;
   // Both scripts set O.dt by the same rule.
   st.timestep = yade_timestep(st.dem, opt.density, opt.young, opt.timestep_factor);
+  // Options each finite but together past the doubles (a young of 1e-308) give O.dt = inf or 0.
+  if (st.dem.moving_block >= 0 && !(std::isfinite(st.timestep) && st.timestep > 0))
+    throw Error("--yade-young " + num(opt.young),
+                "with --yade-density " + num(opt.density) + " and --yade-timestep-factor " +
+                    num(opt.timestep_factor) + " the time step O.dt would be " + num(st.timestep) +
+                    " s",
+                "give a stiffness, density and factor of the model's order (defaults 1e9, 2650, "
+                "0.2)");
 
   PartialFile part(out);
   {

@@ -342,6 +342,26 @@ void append_geometry(Geometry& out, const Geometry& g, std::size_t b, std::size_
   out.inertia.push_back(g.inertia[b]);
 }
 
+// A sphere's depth subtracts its centre from each point, a cylinder's an end of its axis, and
+// then measures across the axis: with a centre or an end far out (a cylinder with ends at 1e154,
+// meant as "through everything") the distances are rounding, past the tolerance, and past 1e154
+// their squares overflow to inf: the region kept nothing without a word (issue 42 item 9). A box
+// subtracts coordinates one by one, and a large radius is exact enough: both left alone.
+void check_region_precision(const ExtractOptions& opt, double tol) {
+  const ExtractRegion& r = opt.region;
+  if (r.shape != RegionShape::sphere && r.shape != RegionShape::cylinder) return;
+  const bool sphere = r.shape == RegionShape::sphere;
+  const Vec3 lo = sphere ? r.a : Vec3(r.a.cwiseMin(r.b)),
+             hi = sphere ? r.a : Vec3(r.a.cwiseMax(r.b));
+  if (const std::string why =
+          precision_problem(lo, hi, tol, sphere ? "the sphere's centre" : "the cylinder's axis");
+      !why.empty())
+    throw Error(sphere ? "--sphere" : "--cylinder", why,
+                sphere ? "give a centre within the model (a larger radius takes in more)"
+                       : "give axis ends a little beyond the blocks: the cylinder then runs "
+                         "through all of them");
+}
+
 }  // namespace
 
 SubModel extract_blocks(const BlockSystem& bs, const ExtractOptions& opt,
@@ -350,8 +370,9 @@ SubModel extract_blocks(const BlockSystem& bs, const ExtractOptions& opt,
     throw Error(source, "the blocks have no vertices (no /geometry)",
                 "run slice-vertices on it first");
   opt.validate();
-  const RegionDepth depth(opt.region, bs.joints);
   const double tol = bs.joints.options.tolerance * bs.joints.length_scale;
+  check_region_precision(opt, tol);
+  const RegionDepth depth(opt.region, bs.joints);
   const Geometry& g = *bs.geometry;
   const std::size_t n = bs.blocks.size();
 

@@ -79,6 +79,14 @@ void check_block(const Checker& c, const BlockSystem& bs, const std::vector<Plan
   if (blk.cluster < -1)
     c.fail(at("/blocks/cluster", b) + " is " + str(blk.cluster) +
            "; expected -1 (none) or a cluster id");
+  // Any of the three bits may come together: slice-cut flags a boundary block or one on a
+  // fixed_faces face as removed when its centre lies in a zone (a gallery reaching the base or a
+  // fixed side), and slice-extract keeps such blocks as they are. Other bits mean nothing.
+  constexpr unsigned kDefined = kBoundary | kRemoved | kFixed;
+  if (blk.flags & ~kDefined)
+    c.fail(at("/blocks/flags", b) + " is " + str(std::int64_t(blk.flags)) +
+           "; only bits 0 (boundary), 1 (removed) and 2 (fixed) are defined, so it is 0 to " +
+           str(std::int64_t(kDefined)));
 }
 
 }  // namespace

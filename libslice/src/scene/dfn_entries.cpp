@@ -223,6 +223,24 @@ std::string tessellated_joint(const DfnFracture& f, double tol, double planarity
       sum_abs += std::abs(area);
     }
     if (!indices) continue;
+    // Areas alone pass a triangle given twice (half the outline bare, the other half covered
+    // twice: issue 42 item 6). In a tiling of one orientation no two triangles lie on the same
+    // side of an edge, so no edge is run twice the same way; a repeated or folded triangle runs
+    // one so.
+    std::vector<std::pair<std::int64_t, std::int64_t>> edges;
+    edges.reserve(3 * f.faces.size());
+    for (const auto& face : f.faces)
+      for (std::size_t c = 0; c < 3; ++c)
+        edges.emplace_back(face[first + c], face[first + (c + 1) % 3]);
+    std::sort(edges.begin(), edges.end());
+    const auto twice = std::adjacent_find(edges.begin(), edges.end());
+    if (twice != edges.end()) {
+      found += std::string(found.empty() ? "" : "; ") + "with node indices in values " +
+               (first == 1 ? "2-4" : "3-5") + " two triangles lie on the same side of the edge " +
+               "from node " + std::to_string(twice->first) + " to node " +
+               std::to_string(twice->second) + " (they overlap)";
+      continue;
+    }
     if (std::abs(sum_abs - hull) <= ptol * perimeter && sum_abs - std::abs(sum) <= ptol * perimeter)
       return "";
     found += std::string(found.empty() ? "" : "; ") + "with node indices in values " +

@@ -519,6 +519,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
   Context cx = read_domain(r, *dt, name, scene);
 
   if (const toml::table* ot = single("options")) read_options(r, *ot, scene);
+  cx.max_blocks = scene.options.max_blocks;
   if (const toml::table* rt = single("rock")) read_rock(r, *rt, scene);
   if (const toml::table* st = single("section")) {
     cx.section = read_section_plane(cx, *st);

@@ -105,6 +105,7 @@ struct Context {
   double rel_tol = 1e-9;
   DomainBox box{};  // the domain as the joint generator sees it
   std::int64_t max_joints = kDefaultMaxJoints;
+  std::int64_t max_blocks = kDefaultMaxBlocks;  // [options] max_blocks (a cut surface's check)
   std::filesystem::path dir{};  // the scene file's directory: relative mesh paths start there
   std::optional<SectionPlane> section{};  // [section]: dips are 3-D, traced in the section
   double tol() const { return rel_tol * domain_info.length_scale; }
