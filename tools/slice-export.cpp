@@ -83,10 +83,11 @@ int main(int argc, char** argv) {
       const slice::JointSystem js =
           joints_file ? slice::read_joints(in) : slice::read_blocks(in).joints;
       const slice::FabStats st = slice::write_fab(out, js);
-      t.say(std::to_string(st.fractures) + " fractures (" + std::to_string(st.persistent) +
-            " persistent joints clipped to the domain, " + std::to_string(st.left_out) +
-            " missing it left out), " + std::to_string(st.nodes) + " nodes, " +
-            std::to_string(st.sets) + " sets -> " + out);
+      t.say_when_written(
+          std::to_string(st.fractures) + " fractures (" + std::to_string(st.persistent) +
+          " persistent joints clipped to the domain, " + std::to_string(st.left_out) +
+          " missing it left out), " + std::to_string(st.nodes) + " nodes, " +
+          std::to_string(st.sets) + " sets -> " + out);
       t.exit_now();
       return;
     }
@@ -108,12 +109,12 @@ int main(int argc, char** argv) {
       slice::JointSystem js;
       const auto st = slice::export_blocks_vtu(in, out, vtu_compressor, t.threads,
                                                slice::VtuIds::narrowest, &js);
-      t.say(std::to_string(st.cells) + " blocks (" + std::to_string(st.skipped) +
-            " removed left out), " + std::to_string(st.points) + " points -> " + out);
+      t.say_when_written(std::to_string(st.cells) + " blocks (" + std::to_string(st.skipped) +
+                         " removed left out), " + std::to_string(st.points) + " points -> " + out);
       if (!joints.empty()) {
         const auto jst = slice::write_joints_vtu(joints, js, vtu_compressor);
-        t.say(std::to_string(jst.cells) + " joints (" + std::to_string(jst.skipped) +
-              " outside the domain left out) -> " + joints);
+        t.say_when_written(std::to_string(jst.cells) + " joints (" + std::to_string(jst.skipped) +
+                           " outside the domain left out) -> " + joints);
       }
       t.exit_now();
       return;
@@ -130,24 +131,28 @@ int main(int argc, char** argv) {
                          "export it with --format 3dec, or slice a section (dimension = 2)");
     if (format == "udec") {
       const auto st = slice::write_udec(out, bs);
-      t.say(std::to_string(st.blocks) + " blocks (" + std::to_string(st.removed) +
-            " removed left out), " + std::to_string(st.vertices) + " corners -> " + out);
+      t.say_when_written(std::to_string(st.blocks) + " blocks (" + std::to_string(st.removed) +
+                         " removed left out), " + std::to_string(st.vertices) + " corners -> " +
+                         out);
       t.exit_now();
       return;
     }
     if (format == "3dec") {
       const auto st = slice::write_3dec(out, commands, bs, tdec);
-      t.say(std::to_string(st.blocks) + " blocks (" + std::to_string(st.removed) +
-            " removed left out), " + std::to_string(st.faces) + " faces, " +
-            std::to_string(st.contacts) + " joint contacts (" + std::to_string(st.bridge_contacts) +
-            " rock bridges), TOL " + tool::sig(st.tol, 3) + " -> " + out);
-      t.say(std::to_string(st.fixed) + " blocks in group boundary (fixed), " +
-            std::to_string(st.clusters) + " clusters joined, " + std::to_string(st.joint_sets) +
-            " joint sets with properties -> " + commands);
-      t.say(tool::smallest_bodies_line(st.dem) + " -> 3DEC critical time step " +
-            tool::sig(st.critical_timestep, 4) + " s (0.1 x 2 sqrt(m / k): m " +
-            tool::sig(st.min_mass, 4) + " kg at density " + tool::sig(tdec.density, 6) +
-            ", k = jkn x largest contact " + tool::sig(st.max_contact_stiffness, 4) + " N/m)");
+      t.say_when_written(std::to_string(st.blocks) + " blocks (" + std::to_string(st.removed) +
+                         " removed left out), " + std::to_string(st.faces) + " faces, " +
+                         std::to_string(st.contacts) + " joint contacts (" +
+                         std::to_string(st.bridge_contacts) + " rock bridges), TOL " +
+                         tool::sig(st.tol, 3) + " -> " + out);
+      t.say_when_written(std::to_string(st.fixed) + " blocks in group boundary (fixed), " +
+                         std::to_string(st.clusters) + " clusters joined, " +
+                         std::to_string(st.joint_sets) + " joint sets with properties -> " +
+                         commands);
+      t.say_when_written(tool::smallest_bodies_line(st.dem) + " -> 3DEC critical time step " +
+                         tool::sig(st.critical_timestep, 4) + " s (0.1 x 2 sqrt(m / k): m " +
+                         tool::sig(st.min_mass, 4) + " kg at density " +
+                         tool::sig(tdec.density, 6) + ", k = jkn x largest contact " +
+                         tool::sig(st.max_contact_stiffness, 4) + " N/m)");
       t.exit_now();
       return;
     }
@@ -155,24 +160,26 @@ int main(int argc, char** argv) {
         format == "yade" ? slice::YadeShape::polyhedra : slice::YadeShape::potential_blocks;
     yade.source = in;
     const auto st = slice::write_yade_script(out, bs, yade);
-    t.say(std::to_string(st.bodies) + " bodies (" + std::to_string(st.fixed) + " fixed, " +
-          std::to_string(st.clumps) + " clumps; " + std::to_string(st.removed) +
-          " removed blocks left out) -> " + out);
+    t.say_when_written(std::to_string(st.bodies) + " bodies (" + std::to_string(st.fixed) +
+                       " fixed, " + std::to_string(st.clumps) + " clumps; " +
+                       std::to_string(st.removed) + " removed blocks left out) -> " + out);
     if (yade.shape == slice::YadeShape::polyhedra)
-      t.say(yade.law == slice::YadeLaw::volumetric
-                ? std::string("contact law: YADE's volumetric law alone, one friction angle per "
-                              "block; WARNING: in YADE 2023.02a its shear force is shared by all "
-                              "contacts, so friction is wrong for a body with two or more")
-                : "contact law: mohr-coulomb per contact (" + std::to_string(st.contacts) +
-                      " joint contacts, " + std::to_string(st.bridges) +
-                      " rock bridges, each its joint's friction, cohesion and tension)");
+      t.say_when_written(
+          yade.law == slice::YadeLaw::volumetric
+              ? std::string("contact law: YADE's volumetric law alone, one friction angle per "
+                            "block; WARNING: in YADE 2023.02a its shear force is shared by all "
+                            "contacts, so friction is wrong for a body with two or more")
+              : "contact law: mohr-coulomb per contact (" + std::to_string(st.contacts) +
+                    " joint contacts, " + std::to_string(st.bridges) +
+                    " rock bridges, each its joint's friction, cohesion and tension)");
     else
-      t.say(
+      t.say_when_written(
           "contact law: PotentialBlock's KnKsPB law (per interaction), one friction angle per "
           "block");
-    t.say(tool::smallest_bodies_line(st.dem) + " -> O.dt = " + tool::sig(st.timestep, 4) + " s (" +
-          tool::sig(yade.timestep_factor, 3) + " x the critical step, density " +
-          tool::sig(yade.density, 6) + ", young " + tool::sig(yade.young, 6) + ")");
+    t.say_when_written(tool::smallest_bodies_line(st.dem) +
+                       " -> O.dt = " + tool::sig(st.timestep, 4) + " s (" +
+                       tool::sig(yade.timestep_factor, 3) + " x the critical step, density " +
+                       tool::sig(yade.density, 6) + ", young " + tool::sig(yade.young, 6) + ")");
     t.exit_now();
   });
 }

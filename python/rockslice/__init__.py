@@ -147,7 +147,10 @@ def _save_model(self, path, compress=False, provenance=None):
     """Writes the file the tools would write for this model (joints.h5, blocks.h5 or geom.h5):
     the same bytes, but for the provenance attributes (model.provenance; `provenance`, a dict
     with some of its keys, replaces those). compress: as the tools' --compress. Atomic, as
-    the tools' outputs: a failure raises OSError and leaves an existing file as it was."""
+    the tools' outputs: a failure raises OSError and leaves an existing file as it was, as does
+    a path that is not a regular file (a FIFO, a device, /dev/stdout). A path that is one of the
+    model's inputs (its scene, a file the scene names) raises rockslice.Error, as the tools
+    refuse -o on their input."""
     given = dict(provenance or {})
     unknown = sorted(set(given) - set(self.provenance))
     if unknown:

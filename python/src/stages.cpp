@@ -9,6 +9,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "rockslice.hpp"
 #include "slice/cut.hpp"
@@ -61,6 +62,38 @@ void check_input(const fs::path& path) {
             .what();
     PyErr_SetString(PyExc_FileNotFoundError, line.c_str());
     throw py::error_already_set();
+  }
+}
+
+// Refuses a save over one of the model's inputs, as the tools refuse an output on their input:
+// model.save('s.toml') would turn the scene (or a DFN file it names) into HDF5. The inputs are
+// the provenance's (the scene, then each file it names, "; " between), for a model made in this
+// process from a scene; a loaded model's were named by another run, from its own directory.
+void check_not_an_input(const Model& model, const fs::path& path) {
+  const slice::Provenance& prov = model.provenance;
+  if (prov.tool != python_provenance("", "", "").tool) return;
+  const auto split = [](const std::string& s) {
+    std::vector<std::string> parts;
+    for (std::size_t start = 0;;) {
+      const std::size_t end = s.find("; ", start);
+      parts.push_back(s.substr(start, end - start));
+      if (end == std::string::npos) return parts;
+      start = end + 2;
+    }
+  };
+  const std::vector<std::string> inputs = split(prov.input);
+  const std::vector<std::string> sha = split(prov.input_sha256);
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    std::error_code ec;
+    if (inputs[i].empty() || !fs::equivalent(inputs[i], path, ec)) continue;
+    // A dict scene stands under a name ("scene") that no file need have: a file of that name
+    // is its input only if it holds the dict's text.
+    if (i == 0 && inputs[i] == "scene" && i < sha.size() && sha[i] != slice::sha256_file(path))
+      continue;
+    throw slice::Error(path.string(),
+                       "the path and the model's input (" + inputs[i] +
+                           ") are the same file: the output would overwrite the input",
+                       "give save() a different path; nothing was written");
   }
 }
 
@@ -261,6 +294,7 @@ void bind_stages(py::module_& m) {
             {"input_sha256", &prov.input_sha256}};
         for (const auto& [name, field] : fields)
           if (given.contains(name)) *field = given[name].cast<std::string>();
+        check_not_an_input(model, path);  // the model's, not `given`: what was read
         try {
           py::gil_scoped_release unlocked;
           if (model.stage == Stage::joints)

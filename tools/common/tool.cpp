@@ -1,15 +1,21 @@
 #include "common/tool.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <new>
+#include <regex>
+#include <streambuf>
 #include <vector>
 
 #include "common/progress.hpp"
@@ -75,6 +81,99 @@ int end_failed(int code) {
   return code;
 }
 
+// std::cout's buffer: writes to descriptor 1 and keeps the system's reason for the first write
+// it refused (std::cout's own keeps only a flag), so that slice-info --json on a full disk or on
+// /dev/full ends with exit 1 and "No space left on device", not exit 0 and a truncated file.
+class StdoutBuffer : public std::streambuf {
+ public:
+  StdoutBuffer() { setp(buf_.data(), buf_.data() + buf_.size()); }
+  int error() const { return error_; }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (write_out() != 0) return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return write_out(); }
+
+ private:
+  // Writes what is buffered; after a refused write, what follows is dropped (the output is
+  // incomplete whatever comes next) and every call fails.
+  int write_out() {
+    for (const char* p = pbase(); error_ == 0 && p < pptr();) {
+      const ssize_t n = ::write(STDOUT_FILENO, p, std::size_t(pptr() - p));
+      if (n > 0)
+        p += n;
+      else if (n == 0)
+        error_ = EIO;
+      else if (errno != EINTR)
+        error_ = errno;
+    }
+    setp(buf_.data(), buf_.data() + buf_.size());
+    return error_ == 0 ? 0 : -1;
+  }
+
+  std::array<char, 1 << 16> buf_{};
+  int error_ = 0;
+};
+
+// Set once by route_stdout: the buffer (never freed: std::cout may be flushed at exit) and
+// whether the tool was started with descriptor 1 closed (">&-").
+StdoutBuffer* g_stdout = nullptr;
+bool g_stdout_closed = false;
+
+// A closed descriptor 0, 1 or 2 would be taken by the next file opened (an output's .partial
+// as descriptor 1 would receive what is printed): each is opened on /dev/null first, 1 read-only
+// so that a write to stdout fails (EBADF) and is reported. Then std::cout writes through
+// StdoutBuffer.
+void route_stdout() {
+  if (g_stdout) return;
+  for (const int fd : {STDIN_FILENO, STDOUT_FILENO, STDERR_FILENO}) {
+    if (::fcntl(fd, F_GETFD) >= 0 || errno != EBADF) continue;
+    const int opened = ::open("/dev/null", fd == STDERR_FILENO ? O_WRONLY : O_RDONLY);
+    if (opened >= 0 && opened != fd) {  // not the lowest free one: cannot happen, but be sure
+      ::dup2(opened, fd);
+      ::close(opened);
+    }
+    if (fd == STDOUT_FILENO) g_stdout_closed = true;
+  }
+  g_stdout = new StdoutBuffer;
+  std::cout.rdbuf(g_stdout);
+}
+
+// Throws Error if a write to stdout was refused (flushing what is left first).
+void check_stdout() {
+  std::cout.flush();
+  if (!g_stdout || (g_stdout->error() == 0 && std::cout)) return;
+  if (g_stdout_closed)
+    throw slice::Error("stdout", "cannot write to it: it is closed (the tool was started with >&-)",
+                       "give the tool a stdout (>/dev/null to drop what it prints)");
+  const int e = g_stdout->error();
+  throw slice::Error(
+      "stdout",
+      "cannot write to it" + (e != 0 ? " (" + std::string(std::strerror(e)) + ")" : std::string()),
+      "make room on the disk it goes to, or send it elsewhere; what was written "
+      "there is incomplete");
+}
+
+// CLI11's message for a parse error as one line: control characters escaped, at most 300
+// characters, and CLI11's ranges of positive numbers ("Value 0 not in range 0.000000 to
+// 1797...(309 digits).000000") said in words.
+std::string parse_error_line(const std::string& what) {
+  static const std::regex huge_range("Value (.*) not in range \\S+ to [0-9]{30,}\\.[0-9]+");
+  std::string line =
+      std::regex_replace(slice::escape_control(what), huge_range, "$1 is not a positive number");
+  if (line.size() > 300) line = line.substr(0, 297) + "...";
+  if (line.size() > 1 && std::isupper(static_cast<unsigned char>(line[0])) &&
+      std::islower(static_cast<unsigned char>(line[1])))
+    line[0] = char(std::tolower(static_cast<unsigned char>(line[0])));
+  return line;
+}
+
 void install_signal_handlers(const std::string& name) {
   std::snprintf(g_name, sizeof g_name, "%s", name.c_str());
   struct sigaction sa {};
@@ -91,6 +190,10 @@ void install_signal_handlers(const std::string& name) {
   sa.sa_handler = on_crash;
   sa.sa_flags = SA_RESETHAND | SA_ONSTACK;
   for (const int sig : {SIGSEGV, SIGBUS}) sigaction(sig, &sa, nullptr);
+  // A file size limit (ulimit -f) kills a process writing past it by SIGXFSZ, with no word and
+  // the .partial left: ignored, the write fails with EFBIG ("File too large") and the writer
+  // reports it as it reports a full disk.
+  std::signal(SIGXFSZ, SIG_IGN);
 }
 
 }  // namespace
@@ -125,13 +228,25 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
     if (a.rfind("--threads=", 0) == 0) continue;
     command_line_ += (command_line_.empty() ? "" : " ") + a;
   }
+  route_stdout();
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     // --help and --version are "errors" with exit code 0 in CLI11; everything else is bad
-    // input (CLI11 uses 100+ codes: map them to 1).
-    const int code = cli.exit(e);
-    return code == 0 ? 0 : 1;
+    // input (CLI11 uses 100+ codes, and prints two lines without the tool's name): one line.
+    if (e.get_exit_code() != 0) {
+      std::cerr << name_ << ": error: " << parse_error_line(e.what()) << "; run " << name_
+                << " --help for the options\n";
+      return 1;
+    }
+    cli.exit(e);
+    try {
+      check_stdout();
+    } catch (const slice::Error& error) {
+      std::cerr << name_ << ": error: " << error.what() << '\n';
+      return 1;
+    }
+    return 0;
   }
   install_signal_handlers(name_);
   bar_ = std::make_unique<ProgressBar>(!quiet);
@@ -140,8 +255,7 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   slice::hold_commits();
   try {
     slice::with_threads(threads, body);  // --threads bounds the readers' checks too
-    slice::commit_held_outputs();
-    bar_->finish();
+    commit_outputs();
     return 0;
   } catch (const slice::Error& e) {
     slice::discard_held_outputs();
@@ -180,10 +294,17 @@ slice::Provenance Tool::provenance(const std::string& input,
   return p;
 }
 
-void Tool::exit_now() {
+void Tool::commit_outputs() {
+  check_stdout();                // a refused write to stdout fails the run, as a refused file
   slice::commit_held_outputs();  // may throw Error: the run then fails as any other
-#ifndef __SANITIZE_ADDRESS__
   bar_->finish();
+  for (const std::string& line : said_when_written_) say(line);
+  said_when_written_.clear();
+}
+
+void Tool::exit_now() {
+  commit_outputs();
+#ifndef __SANITIZE_ADDRESS__
   std::cout.flush();
   std::cerr.flush();
   std::fflush(nullptr);
@@ -194,6 +315,8 @@ void Tool::exit_now() {
 void Tool::say(const std::string& line) const {
   if (!quiet) std::cerr << name_ << ": " << slice::escape_control(line) << '\n';
 }
+
+void Tool::say_when_written(const std::string& line) { said_when_written_.push_back(line); }
 
 std::string fixed(double x, int digits) {
   char buf[64];
@@ -259,6 +382,11 @@ void check_distinct_paths(const std::vector<PathArg>& paths) {
     if (fs::is_directory(path, ec))
       throw slice::Error(p.path, "is a directory",
                          "give " + p.option + " a file name; nothing was written");
+    // Renamed onto, a FIFO, a device (/dev/null) or /dev/stdout would be replaced.
+    if (const std::string what = slice::not_a_regular_file(path); !what.empty())
+      throw slice::Error(
+          p.path, what,
+          "give " + p.option + " the path of a regular file (or of none yet); nothing was written");
   }
   for (std::size_t i = 0; i < paths.size(); ++i) {
     for (std::size_t k = i + 1; k < paths.size(); ++k) {

@@ -38,7 +38,10 @@ class Tool {
   /// provenance leaves it out: the file is the same bytes for every thread count.
   void add_threads_option();
 
-  /// Parses argv, then runs body; maps exceptions to exit codes and one line on stderr.
+  /// Parses argv, then runs body; maps exceptions to exit codes and one line on stderr. A
+  /// parse error is that line too ("<tool>: error: <CLI11's message>; run <tool> --help ...").
+  /// What the body wrote to stdout is checked once it ends: a write the system refused (a full
+  /// disk, /dev/full, a closed stdout) is exit 1, its outputs discarded.
   int run(int argc, char** argv, const std::function<void()>& body);
   /// A progress callback drawing a bar on stderr (nothing if quiet or stderr is no terminal).
   slice::Progress progress();
@@ -49,17 +52,25 @@ class Tool {
                                const std::vector<std::string>& also = {}) const;
   /// A line for people on stderr (suppressed by -q); control characters escaped.
   void say(const std::string& line) const;
+  /// A line said as say() does, but only once every output of the run is in place (when run()
+  /// or exit_now() has renamed them): a run that fails after it ("--joints" after the VTU) never
+  /// claims an output it did not write.
+  void say_when_written(const std::string& line);
   const std::string& name() const { return name_; }
   /// Ends a run that succeeded at once, exit code 0: call it last in the body, once every output
-  /// is written (it renames them into place, as run() does after the body). Freeing a million
-  /// blocks one allocation at a time took 0.2-0.3 s per tool; the system takes the memory back
-  /// whole. Sanitizer builds return instead, so that LeakSanitizer still checks the tools.
+  /// is written (it checks stdout and renames them into place, as run() does after the body).
+  /// Freeing a million blocks one allocation at a time took 0.2-0.3 s per tool; the system takes
+  /// the memory back whole. Sanitizer builds return instead, so that LeakSanitizer still checks the
+  /// tools.
   void exit_now();
 
  private:
   std::string name_;
   std::string command_line_;
   std::unique_ptr<ProgressBar> bar_;
+  std::vector<std::string> said_when_written_;
+
+  void commit_outputs();  // checks stdout, renames the outputs, says said_when_written_
 };
 
 /// x with `digits` decimals ("0.125"), for the figures tools report.

@@ -16,9 +16,10 @@ namespace slice {
 /// exception), the destructor removes it.
 class PartialFile {
  public:
-  /// Throws Error if the directory of `out` does not exist, if `out` is a directory, if a
-  /// directory stands where the .partial goes, if the .partial cannot be created, or if another
-  /// live run holds it (writes the same output).
+  /// Throws Error if the directory of `out` does not exist, if `out` is a directory or another
+  /// file that is not a regular one (not_a_regular_file), if a directory stands where the
+  /// .partial goes, if the .partial cannot be created, or if another live run holds it (writes
+  /// the same output).
   explicit PartialFile(std::filesystem::path out);
   ~PartialFile();
   PartialFile(const PartialFile&) = delete;
@@ -51,6 +52,15 @@ void commit_held_outputs();
 /// Deletes every held output and stops holding (a run that failed after some outputs were
 /// complete).
 void discard_held_outputs() noexcept;
+
+/// What `out` is if it is an output a rename must not replace, "" otherwise (it does not exist,
+/// or is a regular file or a symlink to one). Renaming the finished .partial onto a FIFO, a
+/// device node (/dev/null, /dev/full) or a link to a process's descriptor (/dev/stdout ->
+/// /proc/self/fd/1) would replace that special file by a regular one (as root, /dev/stdout
+/// itself): "is a FIFO (named pipe)", "is a character device", "is a directory", "is a link to
+/// /proc/self/fd/1 (a descriptor, not a file)", ... For the error lines of PartialFile and of
+/// the tools, which check every output before writing any.
+std::string not_a_regular_file(const std::filesystem::path& out);
 
 /// Deletes every .partial of a PartialFile alive in this process. Async-signal-safe (only
 /// atomic loads and unlink(2)): for a SIGINT / SIGTERM handler, which then re-raises the signal.

@@ -88,6 +88,32 @@ int create_locked(const fs::path& path, const fs::path& dir) {
 
 }  // namespace
 
+std::string not_a_regular_file(const fs::path& out) {
+  // The chain of symlinks, each hop checked: /dev/stdout -> /proc/self/fd/1 -> /tmp/log is a
+  // regular file at the end, yet the name stands for a descriptor of whichever process opens it.
+  std::error_code ec;
+  fs::path p = fs::absolute(out, ec);
+  if (ec) return "";
+  for (int hops = 0; hops < 40; ++hops) {
+    const std::string norm = p.lexically_normal().string();
+    if (norm.rfind("/proc/", 0) == 0)
+      return "is a link to " + norm + " (a descriptor or a kernel file, not a file)";
+    struct stat st {};
+    if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) break;
+    const fs::path target = fs::read_symlink(p, ec);
+    if (ec) break;
+    p = target.is_absolute() ? target : p.parent_path() / target;
+  }
+  struct stat st {};
+  if (::stat(out.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return "";  // missing: a new file
+  if (S_ISDIR(st.st_mode)) return "is a directory";
+  if (S_ISFIFO(st.st_mode)) return "is a FIFO (named pipe), not a regular file";
+  if (S_ISCHR(st.st_mode)) return "is a character device, not a regular file";
+  if (S_ISBLK(st.st_mode)) return "is a block device, not a regular file";
+  if (S_ISSOCK(st.st_mode)) return "is a socket, not a regular file";
+  return "is not a regular file";
+}
+
 void settle_truncation(const fs::path& path) noexcept {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
   if (fd >= 0) ::close(fd);
@@ -135,6 +161,11 @@ PartialFile::PartialFile(fs::path out)
                 "create it or choose another output path");
   if (fs::is_directory(out_, ec))
     throw Error(out_.string(), "is a directory", "give a file name for the output");
+  // Renamed onto, a FIFO or a device would be replaced by a regular file: refused, untouched.
+  if (const std::string what = not_a_regular_file(out_); !what.empty())
+    throw Error(out_.string(), what,
+                "give the path of a regular file (or of none yet) for the output; nothing was "
+                "written");
   // Create the .partial locked. A .partial already there is another live run's while that run
   // holds its lock; otherwise it is stale (a run killed by SIGKILL or a power cut) and is
   // replaced. A symlink there is removed, never followed. Another run may do the same at the
