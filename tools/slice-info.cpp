@@ -4,6 +4,7 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -179,7 +180,8 @@ ordered_json describe_stability(const slice::BlockSystem& bs) {
                   {"water_table", o.water_table ? ordered_json(*o.water_table) : nullptr},
                   {"support_pressure", o.support_pressure},
                   {"free_faces", slice::fixed_faces_string(o.free_faces)},
-                  {"fos_target", o.fos_target}};
+                  {"fos_target", o.fos_target},
+                  {"max_group", o.max_group}};
   std::size_t free = 0;
   for (const auto f : st.contacts.free) free += f;
   j["contacts"] = {{"total", st.contacts.size()}, {"free", free}};
@@ -210,6 +212,12 @@ ordered_json describe_stability(const slice::BlockSystem& bs) {
   j["removable"] = removable;
   j["failing"] = failing;
   j["failing_volume"] = failing_volume;
+  std::set<std::int64_t> groups;
+  std::size_t in_groups = 0;
+  for (std::size_t b = 0; b < bs.blocks.size(); ++b)
+    if (r.group[b] >= 0 && !(bs.blocks[b].flags & slice::kRemoved))
+      groups.insert(r.group[b]), ++in_groups;
+  j["failing_in_groups"] = {{"groups", groups.size()}, {"blocks", in_groups}};
   j["min_fos"] = min_block < 0 || std::isinf(min_fos)
                      ? ordered_json(nullptr)
                      : ordered_json{{"fos", min_fos}, {"block", min_block}};

@@ -43,6 +43,12 @@ int main(int argc, char** argv) {
                   "a block that can move with a factor of safety below this fails and is taken "
                   "out; the blocks it exposes are analysed again")
       ->capture_default_str();
+  t.cli
+      .add_option("--max-group", opt.max_group,
+                  "most bodies in a group that fails together: a body that holds alone is "
+                  "analysed again with the neighbours in its way as one rigid body (1: one body "
+                  "at a time)")
+      ->capture_default_str();
   t.add_threads_option();
   t.add_compress_option();
   return t.run(argc, argv, [&] {
@@ -60,10 +66,11 @@ int main(int argc, char** argv) {
     slice::StabilityStats s;
     bs.stability = slice::analyse_stability(bs, opt, &s);
     slice::write_blocks(out, bs, t.provenance(in), t.write_options());
-    t.say(std::to_string(s.bodies) + " bodies, " + std::to_string(s.contacts) +
-          " contacts: " + std::to_string(s.exposed) + " exposed, " + std::to_string(s.removable) +
-          " removable, " + std::to_string(s.failing) + " fail (FoS < " +
-          tool::sig(opt.fos_target, 3) + ") in " + std::to_string(s.rounds) + " round" +
+    t.say(std::to_string(s.bodies) + " bodies, " + std::to_string(s.contacts) + " contacts: " +
+          std::to_string(s.exposed) + " exposed, " + std::to_string(s.removable) + " removable, " +
+          std::to_string(s.failing) + " fail (FoS < " + tool::sig(opt.fos_target, 3) + "; " +
+          std::to_string(s.groups) + " group" + (s.groups == 1 ? "" : "s") +
+          " failing together) in " + std::to_string(s.rounds) + " round" +
           (s.rounds == 1 ? "" : "s") + " (" + tool::fixed(s.seconds, 3) + " s) -> " + out);
     t.say("time: contacts " + tool::fixed(s.contacts_seconds, 3) + " s, bodies " +
           tool::fixed(s.bodies_seconds, 3) + " s, analysis of the exposed bodies " +

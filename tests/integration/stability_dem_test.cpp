@@ -15,13 +15,14 @@
 //   counted per round, and each starts to move no earlier than a neighbour of an earlier round.
 // - The same scenes with friction 0 on every joint (no cohesion, no tension anywhere): exactly
 //   the removable blocks whose mode is 3/4/5 move.
-// - Two cases where slice-stability and YADE disagree, kept as they are measured
+// - A case where slice-stability and YADE disagree, kept as it is measured
 //   (docs/stability-vs-dem.md has the numbers and the hand calculations): a wall block that
 //   slice-stability fails stays in YADE because a roof block that does not fail rests on it
-//   (the analysis takes the neighbours as rigid and unloaded; the DEM passes their weight on), and
-//   two blocks that slice-stability calls stable one by one slide together in YADE (the upper one
-//   pushes the lower one out: FoS 0.78 for the two as one). These test cases pin both sides: should
-//   slice-stability learn about loads from its neighbours, they fail and become agreements.
+//   (the analysis takes the neighbours as rigid and unloaded; the DEM passes their weight on).
+//   This test case pins both sides: should slice-stability learn about loads from its
+//   neighbours, it fails and becomes an agreement.
+// - Two blocks that hold one by one and slide together (the upper one pushes the lower one out:
+//   FoS 0.78 for the two as one): slice-stability's group and YADE agree.
 //
 // YADE must be installed (pipelines/setup does it): a missing yade fails these tests, it does not
 // skip them. About 4 minutes on two cores, most of it the three runs of the chamber.
@@ -420,15 +421,15 @@ stage = 2
   }
 }
 
-TEST_CASE(
-    "where slice-stability and YADE disagree: two blocks it calls stable one by one slide "
-    "together in YADE",
-    "[tools][stability][physics]") {
+TEST_CASE("two blocks that hold alone fail together, in slice-stability and in YADE",
+          "[tools][stability][physics]") {
   // tests/data/stability-dem/two-block.toml: on one plane dipping 30 degrees, an upper block on
-  // friction 15 leans on a lower block on friction 40. slice-stability: the upper block can only
-  // move up past the lower one (mode 2), the lower one has FoS tan 40 / tan 30 = 1.45. As one
-  // body on the plane (they move the same way, so the joint between them does not slip) they have
-  // FoS (W1 tan 15 + W2 tan 40) / ((W1 + W2) tan 30) = 0.78, and YADE slides them.
+  // friction 15 leans on a lower block on friction 40. Alone, the upper block can only move up
+  // past the lower one (mode 2), the lower one has FoS tan 40 / tan 30 = 1.45. As one body on the
+  // plane (they move the same way, so the joint between them does not slip) they have FoS
+  // (A1 tan 15 + A2 tan 40) / ((A1 + A2) tan 30) = 0.753 (N spread by area over their contacts on
+  // the plane, A1 = 6 x 7 / sin 30, A2 = 6 x 5 / cos 30), or 0.778 with W1, W2 in place of A1, A2
+  // (each keeping its own weight's normal force): slice-stability's group, and YADE slides them.
   const Run run = run_scene(scene_text("two-block.toml"), "+x,+z");
   INFO(run.table);
   CAPTURE(run.yade_seconds, run.steps);
@@ -436,15 +437,18 @@ TEST_CASE(
   const Row& upper =
       run.rows[0].centroid.x() < run.rows[1].centroid.x() ? run.rows[0] : run.rows[1];
   const Row& lower = &upper == &run.rows[0] ? run.rows[1] : run.rows[0];
-  CHECK(upper.mode == 2);  // slice-stability: both hold
-  CHECK(upper.generation == -1);
-  CHECK(lower.mode == 4);
-  CHECK(lower.fos > kHolds);
-  CHECK(lower.generation == -1);
-  const double together = (upper.volume * tand(15) + lower.volume * tand(40)) /
-                          ((upper.volume + lower.volume) * tand(30));
-  CAPTURE(together);
-  CHECK(together < kFails);     // the hand calculation: the two fail as one
+  const double a1 = 6 * 7 / std::sin(30 * kPi / 180), a2 = 6 * 5 / std::cos(30 * kPi / 180);
+  const double together = (a1 * tand(15) + a2 * tand(40)) / ((a1 + a2) * tand(30));
+  const double by_weight = (upper.volume * tand(15) + lower.volume * tand(40)) /
+                           ((upper.volume + lower.volume) * tand(30));
+  CAPTURE(together, by_weight);
+  CHECK(together < kFails);  // the hand calculations: the two fail as one
+  CHECK(by_weight < kFails);
+  for (const Row* r : {&upper, &lower}) {
+    CHECK(r->mode == 4);
+    CHECK(r->generation == 0);
+    CHECK(std::abs(r->fos - together) < 1e-9 * together);
+  }
   CHECK(upper.moved > kMoves);  // YADE: both slide
   CHECK(lower.moved > kMoves);
 }

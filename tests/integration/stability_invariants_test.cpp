@@ -186,7 +186,10 @@ TEST_CASE("slice-stability refuses bad input with exit 1, one line and no output
            {geom, {"--density", "-1"}, {"density"}},
            {geom, {"--seismic", "-0.1"}, {"seismic", "-0.1"}},
            {geom, {"--seismic-azimuth", "nan"}, {"azimuth"}},
-           {geom, {"--water-table", "nan"}, {"water"}}}) {
+           {geom, {"--water-table", "nan"}, {"water"}},
+           {geom, {"--max-group", "0"}, {"--max-group"}},
+           {geom, {"--max-group", "65"}, {"--max-group", "64"}},
+           {geom, {"--max-group", "-3"}, {"--max-group"}}}) {
     std::vector<std::string> args = {c.input, "-o", out};
     args.insert(args.end(), c.args.begin(), c.args.end());
     CAPTURE(args);

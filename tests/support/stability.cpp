@@ -96,6 +96,7 @@ Stability stability_datasets(const std::map<std::string, Dataset>& m, std::size_
   const auto& direction = column(m, "stability/direction", "float64", blocks, 3);
   const auto& generation = column(m, "stability/generation", "int32", blocks);
   const auto& planes = column(m, "stability/planes", "int64", blocks, 2);
+  const auto& group = column(m, "stability/group", "int64", blocks);
   for (std::size_t b = 0; b < blocks; ++b) {
     s.removable.push_back(static_cast<int>(removable.v[b]));
     s.mode.push_back(static_cast<int>(mode.v[b]));
@@ -104,6 +105,7 @@ Stability stability_datasets(const std::map<std::string, Dataset>& m, std::size_
     s.generation.push_back(static_cast<int>(generation.v[b]));
     s.planes.push_back({static_cast<std::int64_t>(planes.v[2 * b]),
                         static_cast<std::int64_t>(planes.v[2 * b + 1])});
+    s.group.push_back(static_cast<std::int64_t>(group.v[b]));
   }
   const auto it = m.find("contacts/pairs");
   REQUIRE(it != m.end());
@@ -176,7 +178,7 @@ void check_contract(const Model& m, const Run& run) {
     CHECK(c.joint == fa.joint);
     CHECK(c.area > 0);
     CHECK(std::isfinite(c.area));
-    CHECK(c.fraction > 0);
+    CHECK(c.fraction >= 0);  // 0: wholly off its joint's polygon (a rock bridge)
     CHECK(c.fraction <= 1);
     // The centroid lies on the face's plane.
     CHECK(std::abs(fa.normal.dot(c.centroid - m.bs.blocks[a].origin) - fa.d) < 1e-9 * L);
@@ -265,10 +267,36 @@ void check_contract(const Model& m, const Run& run) {
     } else if (st.mode[b] >= 3) {
       CHECK(st.fos[b] >= run.fos_target);
     }
-    // Exposed at the start: a mode of its own; never exposed: nothing fails at once.
+    // Exposed at the start: a mode of its own; never exposed: nothing fails at once, but as a
+    // member of a group.
     if (m.movable(b) && exposed[b]) CHECK(st.mode[b] >= 1);
-    if (!exposed[b]) CHECK(st.generation[b] != 0);
+    if (!exposed[b] && st.group[b] < 0) CHECK(st.generation[b] != 0);
+    // A group: blocks that fail together, named by its smallest block.
+    CHECK(st.group[b] >= -1);
+    CHECK(st.group[b] < std::int64_t(nb));
+    if (st.group[b] >= 0) {
+      CHECK(st.generation[b] >= 0);
+      CHECK(st.group[b] <= std::int64_t(b));
+      CHECK(st.group[std::size_t(st.group[b])] == st.group[b]);
+    }
   }
+  // A group's members carry the group's values; a group fails at once only if one of its
+  // members was exposed.
+  std::map<std::int64_t, bool> group_exposed;
+  for (std::size_t b = 0; b < nb; ++b) {
+    const auto g = st.group[b];
+    if (g < 0 || g >= std::int64_t(nb)) continue;
+    group_exposed[g] = group_exposed[g] || exposed[b];
+    const auto f = std::size_t(g);
+    INFO("group " << g << ": block " << b);
+    CHECK(st.mode[b] == st.mode[f]);
+    CHECK(st.generation[b] == st.generation[f]);
+    CHECK(st.fos[b] == st.fos[f]);
+    CHECK((st.direction[b].array() == st.direction[f].array()).all());
+    CHECK(st.planes[b] == st.planes[f]);
+  }
+  for (const auto& [g, any] : group_exposed)
+    if (st.generation[std::size_t(g)] == 0) CHECK(any);
   // A cluster's members carry the cluster's values.
   std::map<std::int64_t, std::size_t> first;
   for (std::size_t b = 0; b < nb; ++b) {

@@ -52,6 +52,7 @@ struct Stability {
   std::vector<double> fos;
   std::vector<slice::Vec3> direction;
   std::vector<std::array<std::int64_t, 2>> planes;
+  std::vector<std::int64_t> group;  // a group failing together: its smallest block; -1 none
   std::vector<Contact> contacts;
 };
 

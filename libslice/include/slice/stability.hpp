@@ -53,6 +53,7 @@ BodyStability analyse_body(std::span<const ContactPlane> planes, const Vec3& res
 
 struct StabilityStats {
   std::size_t bodies = 0, exposed = 0, removable = 0, failing = 0, rounds = 0;
+  std::size_t groups = 0;  // groups of bodies that fail together
   std::size_t contacts = 0;
   double seconds = 0;           // all of analyse_stability:
   double contacts_seconds = 0;  //   the contact search and its rows

@@ -2,6 +2,7 @@
 // What slice-stability stores (HDF5 /contacts and /stability; docs/formats.md) and the loads it
 // was run with: the data a BlockSystem carries. The analysis itself: slice/stability.hpp.
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -9,6 +10,9 @@
 #include "slice/geometry.hpp"
 
 namespace slice {
+
+/// The largest --max-group slice-stability takes.
+inline constexpr std::size_t kMaxGroup = 64;
 
 /// /stability/mode (a public contract: the values are the file's).
 enum class FailureMode : std::uint8_t {
@@ -32,6 +36,7 @@ struct StabilityOptions {
   double support_pressure = 0;        // Pa, on the free faces a block has at the start, inwards
   std::uint8_t free_faces = 0;        // bits of kBoxFaceNames: domain faces that are free surfaces
   double fos_target = 1;              // a block with a mode of motion and FoS below this fails
+  std::size_t max_group = 8;          // most bodies in a group that fails together (1: none)
 };
 
 /// Rows of HDF5 /contacts: where each kept block touches another block (kept or removed) or the
@@ -58,6 +63,7 @@ struct StabilityResult {
   std::vector<Vec3> direction;                      // unit direction of motion, 0 where none
   std::vector<std::int32_t> generation;             // round it fails in; -1 never
   std::vector<std::array<std::int64_t, 2>> planes;  // joints of the sliding plane(s), -1 none
+  std::vector<std::int64_t> group;  // a group that fails together: its smallest block; -1 none
 };
 
 /// What a BlockSystem holds once slice-stability has run: /contacts and /stability. Anything

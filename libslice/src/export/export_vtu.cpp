@@ -132,13 +132,14 @@ VtuStats write_vtu(const std::filesystem::path& out, const BlockSystem& bs, Sour
     const double v = stab->fos[b];
     return std::isinf(v) ? std::numeric_limits<double>::quiet_NaN() : v;
   };
-  Range r_removable, r_mode, r_fos, r_generation;
+  Range r_removable, r_mode, r_fos, r_generation, r_group;
   if (stab)
     for (const std::size_t b : kept) {
       r_removable.add(stab->removable[b]);
       r_mode.add(stab->mode[b]);
       r_fos.add(vtu_fos(b));
       r_generation.add(stab->generation[b]);
+      r_group.add(double(stab->group[b]));
     }
   std::vector<vtu::ArraySpec> cell_data = {
       r_id.spec("Int64", "block_id"),          r_volume.spec("Float64", "volume"),
@@ -151,6 +152,7 @@ VtuStats write_vtu(const std::filesystem::path& out, const BlockSystem& bs, Sour
     cell_data.push_back(r_fos.spec("Float64", "fos"));
     cell_data.push_back({"Float64", "direction", 3});
     cell_data.push_back(r_generation.spec("Int32", "generation"));
+    cell_data.push_back(r_group.spec("Int64", "group"));
   }
   // The points' magnitudes: the roots of the extreme squares (the root is monotonic: the same
   // numbers as the extremes of the roots, one root each instead of one per point).
@@ -214,6 +216,8 @@ VtuStats write_vtu(const std::filesystem::path& out, const BlockSystem& bs, Sour
       });
       stream<std::int32_t>(f, cells, cells,
                            [&](std::size_t k, auto& o) { o.push_back(stab->generation[kept[k]]); });
+      stream<std::int64_t>(f, cells, cells,
+                           [&](std::size_t k, auto& o) { o.push_back(stab->group[kept[k]]); });
     }
     stream<double>(f, cells, 3 * points, [&](std::size_t k, auto& o) {
       const auto lo = std::size_t(vertex_offset[kept[k]]);

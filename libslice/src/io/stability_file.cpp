@@ -91,6 +91,7 @@ void check_result(const Checker& c, const BlockSystem& bs, const StabilityResult
   expect(c, "/stability/direction", s.direction, B, because);
   expect(c, "/stability/generation", s.generation, B, because);
   expect(c, "/stability/planes", s.planes, B, because);
+  expect(c, "/stability/group", s.group, B, because);
   for (std::size_t b = 0; b < B; ++b) {
     if (s.removable[b] > 1)
       c.fail(at("/stability/removable", b) + " is " + str(std::int64_t(s.removable[b])) +
@@ -107,6 +108,10 @@ void check_result(const Checker& c, const BlockSystem& bs, const StabilityResult
     if (s.generation[b] < -1)
       c.fail(at("/stability/generation", b) + " is " + str(std::int64_t(s.generation[b])) +
              "; expected -1 (never fails) or a round");
+    if (s.group[b] < -1 || s.group[b] >= std::int64_t(B) ||
+        (s.group[b] >= 0 && s.generation[b] < 0))
+      c.fail(at("/stability/group", b) + " is " + str(s.group[b]) +
+             "; expected -1 or, for a block that fails, a row of /blocks");
     for (const std::int64_t j : s.planes[b])
       if (j < -1 || j >= J)
         c.fail(at("/stability/planes", b) + " names joint " + str(j) +
@@ -147,12 +152,14 @@ void write_stability_groups(const Group& root, const BlockSystem& bs) {
   g.write_attribute<double>("support_pressure", o.support_pressure);
   g.write_attribute<std::string>("free_faces", fixed_faces_string(o.free_faces));
   g.write_attribute<double>("fos_target", o.fos_target);
+  g.write_attribute<std::int64_t>("max_group", std::int64_t(o.max_group));
   g.write<std::uint8_t>("removable", s.removable);
   g.write<std::uint8_t>("mode", s.mode);
   g.write<double>("fos", s.fos);
   g.write<double>("direction", flat(s.direction), 3);
   g.write<std::int32_t>("generation", s.generation);
   g.write<std::int64_t>("planes", flat(s.planes), 2);
+  g.write<std::int64_t>("group", s.group);
 }
 
 void read_stability_groups(const Group& root, BlockSystem& bs) {
@@ -184,12 +191,23 @@ void read_stability_groups(const Group& root, BlockSystem& bs) {
     fail(g, "/stability attribute free_faces is \"" + faces + "\"; expected e.g. \"+z,-x\"");
   o.free_faces = *bits;
   o.fos_target = g.read_attribute<double>("fos_target");
+  // Files written before groups (rockslice 2026-11-28 and older) analysed one body at a time.
+  o.max_group = 1;
+  if (g.has_attribute("max_group")) {
+    const auto m = g.read_attribute<std::int64_t>("max_group");
+    if (m < 1 || m > std::int64_t(kMaxGroup))
+      fail(g, "/stability attribute max_group is " + std::to_string(m) + "; expected 1 to " +
+                  std::to_string(kMaxGroup));
+    o.max_group = std::size_t(m);
+  }
   s.removable = g.read<std::uint8_t>("removable");
   s.mode = g.read<std::uint8_t>("mode");
   s.fos = g.read<double>("fos");
   s.direction = vecs(g.read<double>("direction", 3));
   s.generation = g.read<std::int32_t>("generation");
   s.planes = pairs(g.read<std::int64_t>("planes", 2));
+  s.group = g.exists("group") ? g.read<std::int64_t>("group")
+                              : std::vector<std::int64_t>(s.generation.size(), -1);
   bs.stability = std::move(d);
 }
 

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <tuple>
 
 #include "slice/contacts.hpp"
@@ -256,46 +257,68 @@ struct BodyAnswer {
   std::array<std::int64_t, 2> joints{-1, -1};
 };
 
-BodyAnswer analyse(const Bodies& bodies, std::size_t k, const ContactRows& rows,
+/// The bodies that move as one rigid body: one body, or a group (sorted, small).
+using Members = std::span<const std::size_t>;
+
+/// Which neighbours an analysis keeps: all of them in place, or only those that cannot move (fixed
+/// bodies and the domain), to see which of the others are in the way.
+enum class Neighbours { in_place, fixed_only };
+
+bool contains(Members m, std::size_t k) { return std::find(m.begin(), m.end(), k) != m.end(); }
+
+/// The outward normal of a body's side of an entry.
+Vec3 outward(const ContactRows& rows, const Entry& en) {
+  return en.flip ? Vec3(-rows.normal[en.row]) : rows.normal[en.row];
+}
+
+BodyAnswer analyse(const Bodies& bodies, Members group, const ContactRows& rows,
                    const std::vector<RowStrength>& strength, const std::vector<int>& failed,
-                   const StabilityOptions& opt) {
+                   const StabilityOptions& opt, Neighbours which = Neighbours::in_place) {
   BodyAnswer out;
-  const double weight = opt.density * opt.gravity * bodies.volume[k];
+  double volume = 0;
+  for (const std::size_t k : group) volume += bodies.volume[k];
+  const double weight = opt.density * opt.gravity * volume;
   const double az = opt.seismic_azimuth_deg;
   Vec3 load(opt.seismic * weight * sind(az), opt.seismic * weight * cosd(az), -weight);
   std::vector<ContactPlane> planes;
   std::vector<double> largest;  // area of each plane's largest contact
-  for (std::size_t e = bodies.entry_offset[k]; e < bodies.entry_offset[k + 1]; ++e) {
-    const Entry& en = bodies.entries[e];
-    const Vec3 n = en.flip ? Vec3(-rows.normal[en.row]) : rows.normal[en.row];
-    const double area = rows.area[en.row];
-    if (en.other == kOpen) {
-      out.exposed = true;
-      load -= opt.support_pressure * area * n;
-      continue;
+  for (const std::size_t k : group)
+    for (std::size_t e = bodies.entry_offset[k]; e < bodies.entry_offset[k + 1]; ++e) {
+      const Entry& en = bodies.entries[e];
+      const Vec3 n = outward(rows, en);
+      const double area = rows.area[en.row];
+      if (en.other == kOpen) {
+        out.exposed = true;
+        load -= opt.support_pressure * area * n;
+        continue;
+      }
+      if (en.other >= 0) {
+        const auto o = std::size_t(en.other);
+        if (failed[o] >= 0) {
+          out.exposed = true;
+          continue;
+        }
+        if (contains(group, o)) continue;  // inside the group
+        if (which == Neighbours::fixed_only && !bodies.fixed[o]) continue;
+      }
+      const RowStrength& s = strength[en.row];
+      load -= s.water * n;
+      auto it = std::find_if(planes.begin(), planes.end(), [&](const ContactPlane& p) {
+        return (p.normal - n).cwiseAbs().maxCoeff() <= kAngleTol;
+      });
+      if (it == planes.end()) {
+        planes.push_back({n, 0, 0, 0, 0, false, -1});
+        largest.push_back(0);
+        it = planes.end() - 1;
+      }
+      it->area += area;
+      it->friction += s.friction;
+      it->cohesion += s.cohesion;
+      it->tension += s.tension;
+      it->locked = it->locked || s.locked;
+      double& big = largest[std::size_t(it - planes.begin())];
+      if (area > big) big = area, it->joint = rows.joint[en.row];
     }
-    if (en.other >= 0 && failed[std::size_t(en.other)] >= 0) {
-      out.exposed = true;
-      continue;
-    }
-    const RowStrength& s = strength[en.row];
-    load -= s.water * n;
-    auto it = std::find_if(planes.begin(), planes.end(), [&](const ContactPlane& p) {
-      return (p.normal - n).cwiseAbs().maxCoeff() <= kAngleTol;
-    });
-    if (it == planes.end()) {
-      planes.push_back({n, 0, 0, 0, 0, false, -1});
-      largest.push_back(0);
-      it = planes.end() - 1;
-    }
-    it->area += area;
-    it->friction += s.friction;
-    it->cohesion += s.cohesion;
-    it->tension += s.tension;
-    it->locked = it->locked || s.locked;
-    double& big = largest[std::size_t(it - planes.begin())];
-    if (area > big) big = area, it->joint = rows.joint[en.row];
-  }
   if (!out.exposed) return out;
   out.s = analyse_body(planes, load, kAngleTol);
   for (int i = 0; i < 2; ++i)
@@ -310,6 +333,44 @@ bool fails(const BodyAnswer& a, double target) {
          (m == FailureMode::falls || m == FailureMode::slides_one ||
           m == FailureMode::slides_two) &&
          a.s.fos < target;
+}
+
+/// A group of bodies that fails as one, and its answer.
+struct GroupAnswer {
+  std::vector<std::size_t> members;  // sorted
+  BodyAnswer answer;
+};
+
+/// Bodies that fail together (docs/stability.md, "Groups"): from a body that holds, the movable
+/// neighbours in the way of the motion it would have without them join it, and the group is
+/// analysed as one rigid body (its joints inside do not slip); again from the group, up to
+/// opt.max_group bodies. Nothing when the body, freed of its movable neighbours, holds anyway.
+std::optional<GroupAnswer> find_group(const Bodies& bodies, std::size_t seed,
+                                      const ContactRows& rows,
+                                      const std::vector<RowStrength>& strength,
+                                      const std::vector<int>& failed, const StabilityOptions& opt) {
+  std::vector<std::size_t> group{seed};
+  while (true) {
+    const BodyAnswer freed =
+        analyse(bodies, group, rows, strength, failed, opt, Neighbours::fixed_only);
+    if (!fails(freed, opt.fos_target)) return std::nullopt;
+    std::vector<std::size_t> in_way;
+    for (const std::size_t k : group)
+      for (std::size_t e = bodies.entry_offset[k]; e < bodies.entry_offset[k + 1]; ++e) {
+        const Entry& en = bodies.entries[e];
+        if (en.other < 0) continue;
+        const auto o = std::size_t(en.other);
+        if (bodies.fixed[o] || failed[o] >= 0 || contains(group, o)) continue;
+        if (outward(rows, en).dot(freed.s.direction) > kAngleTol) in_way.push_back(o);
+      }
+    std::sort(in_way.begin(), in_way.end());
+    in_way.erase(std::unique(in_way.begin(), in_way.end()), in_way.end());
+    if (in_way.empty() || group.size() + in_way.size() > opt.max_group) return std::nullopt;
+    group.insert(group.end(), in_way.begin(), in_way.end());
+    std::sort(group.begin(), group.end());
+    BodyAnswer together = analyse(bodies, group, rows, strength, failed, opt);
+    if (fails(together, opt.fos_target)) return GroupAnswer{std::move(group), together};
+  }
 }
 
 std::string shortest(double v) {  // the shortest text that reads back as v
@@ -342,6 +403,12 @@ void check_stability_options(const StabilityOptions& opt) {
   check("--water-density", opt.water_density, true, "kg/m3");
   check("--support-pressure", opt.support_pressure, false, "Pa, e.g. --support-pressure 50e3");
   check("--fos-target", opt.fos_target, true, "units of the factor of safety, e.g. 1.3");
+  if (opt.max_group < 1 || opt.max_group > kMaxGroup)
+    throw Error(
+        "--max-group",
+        "is " + std::to_string(opt.max_group) + "; it must be 1 to " + std::to_string(kMaxGroup),
+        "give the most bodies a group that fails together may have, e.g. --max-group 8 "
+        "(1: one body at a time)");
   if (!std::isfinite(opt.seismic_azimuth_deg))
     throw Error("--seismic-azimuth", "is not a finite number",
                 "give degrees clockwise from North, e.g. --seismic-azimuth 90");
@@ -379,34 +446,82 @@ StabilityData analyse_stability(const BlockSystem& bs, const StabilityOptions& o
   const auto analysis_start = std::chrono::steady_clock::now();
   const double bodies_seconds = since(start) - contacts_seconds;
 
-  // Rounds: every body that can move, then the ones next to a body that failed.
+  // Rounds: every body that can move, then the ones next to a body that failed. In each round,
+  // the bodies that fail alone, then the groups that fail together (seeded by the bodies analysed
+  // and their neighbours), all found in the state at the round's start.
   const std::size_t n = bodies.size();
   std::vector<BodyAnswer> answer(n);
   std::vector<int> failed(n, -1);
+  std::vector<std::int64_t> leader(n, -1);  // a group's smallest body, -1 alone
   std::vector<std::size_t> dirty;
   for (std::size_t k = 0; k < n; ++k)
     if (!bodies.fixed[k]) dirty.push_back(k);
+  const auto movable_neighbours = [&](std::size_t k, auto&& visit) {
+    for (std::size_t e = bodies.entry_offset[k]; e < bodies.entry_offset[k + 1]; ++e) {
+      const std::int64_t o = bodies.entries[e].other;
+      if (o >= 0 && failed[std::size_t(o)] < 0 && !bodies.fixed[std::size_t(o)])
+        visit(std::size_t(o));
+    }
+  };
+  const auto sorted_unique = [](std::vector<std::size_t>& v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+  };
+  std::size_t groups = 0;
   int round = 0;
   for (; !dirty.empty(); ++round) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, dirty.size(), 256),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         for (std::size_t i = range.begin(); i != range.end(); ++i)
-                          answer[dirty[i]] = analyse(bodies, dirty[i], rows, strength, failed, opt);
+                          answer[dirty[i]] =
+                              analyse(bodies, Members(&dirty[i], 1), rows, strength, failed, opt);
+                      });
+    std::vector<std::size_t> seeds;
+    if (opt.max_group > 1) {
+      seeds = dirty;
+      if (round > 0)
+        for (const std::size_t k : dirty)
+          movable_neighbours(k, [&](std::size_t o) { seeds.push_back(o); });
+      sorted_unique(seeds);
+      std::erase_if(seeds, [&](std::size_t k) {
+        return !answer[k].exposed || fails(answer[k], opt.fos_target);
+      });
+    }
+    std::vector<std::optional<GroupAnswer>> found(seeds.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, seeds.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i != range.end(); ++i)
+                          found[i] = find_group(bodies, seeds[i], rows, strength, failed, opt);
                       });
     std::vector<std::size_t> failing;
     for (const std::size_t k : dirty)
       if (fails(answer[k], opt.fos_target)) failing.push_back(k);
-    if (failing.empty()) break;
     for (const std::size_t k : failing) failed[k] = round;
+    // The weakest group first (then by its members): it claims its bodies, whatever their order.
+    std::vector<GroupAnswer> groups_found;
+    for (auto& f : found)
+      if (f) groups_found.push_back(std::move(*f));
+    std::sort(groups_found.begin(), groups_found.end(),
+              [](const GroupAnswer& x, const GroupAnswer& y) {
+                return std::tie(x.answer.s.fos, x.members) < std::tie(y.answer.s.fos, y.members);
+              });
+    for (const GroupAnswer& group : groups_found) {
+      if (std::any_of(group.members.begin(), group.members.end(),
+                      [&](std::size_t k) { return failed[k] >= 0; }))
+        continue;
+      ++groups;
+      for (const std::size_t k : group.members) {
+        failed[k] = round;
+        answer[k] = group.answer;
+        leader[k] = std::int64_t(group.members.front());
+        failing.push_back(k);
+      }
+    }
+    if (failing.empty()) break;
     std::vector<std::size_t> next;
     for (const std::size_t k : failing)
-      for (std::size_t e = bodies.entry_offset[k]; e < bodies.entry_offset[k + 1]; ++e) {
-        const std::int64_t o = bodies.entries[e].other;
-        if (o >= 0 && failed[std::size_t(o)] < 0 && !bodies.fixed[std::size_t(o)])
-          next.push_back(std::size_t(o));
-      }
-    std::sort(next.begin(), next.end());
-    next.erase(std::unique(next.begin(), next.end()), next.end());
+      movable_neighbours(k, [&](std::size_t o) { next.push_back(o); });
+    sorted_unique(next);
     dirty = std::move(next);
   }
 
@@ -419,10 +534,12 @@ StabilityData analyse_stability(const BlockSystem& bs, const StabilityOptions& o
   res.direction.assign(B, Vec3::Zero());
   res.generation.assign(B, -1);
   res.planes.assign(B, {-1, -1});
+  res.group.assign(B, -1);
   StabilityStats st;
   st.bodies = n;
   st.contacts = rows.size();
   st.rounds = std::size_t(round);  // rounds in which something failed
+  st.groups = groups;
   for (std::size_t k = 0; k < n; ++k) {
     const BodyAnswer& a = answer[k];
     if (!a.exposed) continue;
@@ -437,6 +554,8 @@ StabilityData analyse_stability(const BlockSystem& bs, const StabilityOptions& o
       res.direction[b] = a.s.direction;
       res.generation[b] = failed[k];
       res.planes[b] = a.joints;
+      if (leader[k] >= 0)
+        res.group[b] = std::int64_t(bodies.members[bodies.member_offset[std::size_t(leader[k])]]);
     }
   }
   st.analysis_seconds = since(analysis_start);
