@@ -444,7 +444,7 @@ friction_angle = 25
   }
 }
 
-TEST_CASE("issue-24-3dec-scene-name-with-newlines-adds-no-line", "[tools][export][3dec]") {
+TEST_CASE("a 3DEC scene name with newlines adds no line to the script", "[tools][export][3dec]") {
   test::TempDir tmp;
   const std::string geom = pipeline_of(tmp, R"([scene]
 name = "evil\nmodel new\nG 1 0 0 0\r\nJS 1 1-2\n* x"

@@ -66,7 +66,7 @@ test::ToolRun joints(const test::TempDir& tmp, const std::string& scene) {
 
 }  // namespace
 
-TEST_CASE("issue-25 binary STL with a wrong or truncated count: what it claims and holds",
+TEST_CASE("binary STL with a wrong or truncated count: what it claims and holds",
           "[tools][refusals][mesh]") {
   test::TempDir tmp;
   const std::string zone = "[[zones]]\nmesh = \"cube.stl\"\n";
@@ -102,7 +102,7 @@ TEST_CASE("issue-25 binary STL with a wrong or truncated count: what it claims a
   }
 }
 
-TEST_CASE("issue-25 a 2 GB sparse .stl or .obj is refused by its size, before it is read",
+TEST_CASE("a 2 GB sparse .stl or .obj is refused by its size, before it is read",
           "[tools][refusals][mesh]") {
   test::TempDir tmp;
   for (const std::string name : {"big.stl", "big.obj"}) {
@@ -118,7 +118,7 @@ TEST_CASE("issue-25 a 2 GB sparse .stl or .obj is refused by its size, before it
   }
 }
 
-TEST_CASE("issue-25 mesh errors print their fix once", "[tools][refusals][mesh]") {
+TEST_CASE("mesh errors print their fix once", "[tools][refusals][mesh]") {
   test::TempDir tmp;
   SECTION("slice-joints: an open mesh") {
     std::string obj;
@@ -152,7 +152,7 @@ TEST_CASE("issue-25 mesh errors print their fix once", "[tools][refusals][mesh]"
   }
 }
 
-TEST_CASE("issue-25 3DEC export of a 2-D file names the input, not the output",
+TEST_CASE("3DEC export of a 2-D file names the input, not the output",
           "[tools][refusals][section]") {
   test::TempDir tmp;
   const std::string geom = test::run_pipeline(tmp, "kim-persistent.toml", test::Stage::geometry);
@@ -171,7 +171,7 @@ TEST_CASE("issue-25 3DEC export of a 2-D file names the input, not the output",
   CHECK_FALSE(test::fs::exists(py));
 }
 
-TEST_CASE("issue-25 a too-thin box domain: its thickness against the tolerance",
+TEST_CASE("a too-thin box domain: its thickness against the tolerance",
           "[tools][refusals][scene]") {
   test::TempDir tmp;
   const auto r = joints(tmp,
@@ -185,8 +185,7 @@ TEST_CASE("issue-25 a too-thin box domain: its thickness against the tolerance",
   CHECK_FALSE(test::fs::exists(tmp / "j.h5"));
 }
 
-TEST_CASE("issue-25 tunnel radius 1e300 and direction [0, 1e308, 1e308]",
-          "[tools][refusals][tunnel]") {
+TEST_CASE("tunnel radius 1e300 and direction [0, 1e308, 1e308]", "[tools][refusals][tunnel]") {
   test::TempDir tmp;
   const auto tunnel = [](const std::string& direction, const std::string& radius) {
     return cube_scene("[[zones]]\ntunnel = { point = [10, 0, 8], direction = " + direction +
@@ -218,8 +217,7 @@ TEST_CASE("issue-25 tunnel radius 1e300 and direction [0, 1e308, 1e308]",
   }
 }
 
-TEST_CASE("issue-25 2-D: a horizontal joint's dip direction 0 is accepted",
-          "[tools][refusals][section]") {
+TEST_CASE("2-D: a horizontal joint's dip direction 0 is accepted", "[tools][refusals][section]") {
   // docs/scenes.md: a horizontal plane's dip direction means nothing. The blocks are those of
   // dip direction 90.
   const auto blocks = [](const test::TempDir& tmp, const std::string& dd) {
@@ -242,7 +240,7 @@ TEST_CASE("issue-25 2-D: a horizontal joint's dip direction 0 is accepted",
   CHECK(n > 4);
 }
 
-TEST_CASE("issue-25 /geometry errors name slice-vertices, which writes it", "[tools][refusals]") {
+TEST_CASE("/geometry errors name slice-vertices, which writes it", "[tools][refusals]") {
   test::TempDir tmp;
   const std::string geom = test::run_pipeline(tmp, "cube-3sets.toml", test::Stage::geometry);
   const auto out = tmp / "m.vtu";
@@ -270,7 +268,7 @@ TEST_CASE("issue-25 /geometry errors name slice-vertices, which writes it", "[to
   CHECK_FALSE(test::fs::exists(out));
 }
 
-TEST_CASE("issue-25 an HDF5 filter this build lacks (LZF): says so, not 'can't open directory'",
+TEST_CASE("an HDF5 filter this build lacks (LZF): says so, not 'can't open directory'",
           "[tools][refusals]") {
   test::TempDir tmp;
   const std::string j = test::run_pipeline(tmp, "cube-3sets.toml", test::Stage::joints);
@@ -291,7 +289,7 @@ TEST_CASE("issue-25 an HDF5 filter this build lacks (LZF): says so, not 'can't o
 
 // Issue 42 items 6-10 through the real tools (the library's side: tests/unit/h5io_test.cpp and
 // input_refusals_test.cpp): exit 1, one line, nothing written.
-TEST_CASE("issue-42 inputs that passed unchecked are refused by the tools", "[tools][refusals]") {
+TEST_CASE("inputs that passed unchecked are refused by the tools", "[tools][refusals]") {
   test::TempDir tmp;
   // Four 10 x 10 x 20 m blocks: contacts of 200 m2.
   const std::string geom =

@@ -182,7 +182,7 @@ TEST_CASE("a realization sweep: one folder per seed, a summary over the seeds",
   CHECK_THAT(snakemake(tmp), Catch::Contains("Nothing to be done"));
 }
 
-TEST_CASE("issue-25 workflow paths are relative to the config file that names them",
+TEST_CASE("workflow paths are relative to the config file that names them",
           "[tools][workflow][snakemake]") {
   // The user's config beside its scene, snakemake run from another folder: the scene is found
   // beside the config (not in the repository) and `out` is that folder's too.
@@ -205,7 +205,7 @@ TEST_CASE("issue-25 workflow paths are relative to the config file that names th
   CHECK_FALSE(test::fs::exists(tmp / "run" / "results"));
 }
 
-TEST_CASE("issue-25 workflow config: seeds [true] and an empty scenes: one line, nothing run",
+TEST_CASE("workflow config: seeds [true] and an empty scenes: one line, nothing run",
           "[tools][workflow][snakemake]") {
   test::TempDir tmp;
   const std::string scene = test::data_path("cube-3sets.toml").string();

@@ -1,5 +1,5 @@
-// Issue 25 regressions (items 2 and 4), each named after what the audit found, run through the
-// real tools: a scene's mesh named as -o, and wrong results that were accepted without a word.
+// Inputs and results that were once accepted without a word (a robustness audit), each named
+// after what it found, run through the real tools: a scene's mesh named as -o, and wrong results.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <string>
@@ -57,7 +57,7 @@ std::string cube_scene(const std::string& zone) {
 
 }  // namespace
 
-TEST_CASE("issue 25: the scene's mesh file named as -o is refused, the mesh untouched",
+TEST_CASE("the scene's mesh file named as -o is refused, the mesh untouched",
           "[robustness][tools][mesh]") {
   test::TempDir tmp;
   test::write_text(tmp / "cavern.obj", kCubeObj);
@@ -77,7 +77,7 @@ TEST_CASE("issue 25: the scene's mesh file named as -o is refused, the mesh unto
   CHECK(run_tool("slice-joints", {scene, "-o", (tmp / "j.h5").string()}).exit_code == 0);
 }
 
-TEST_CASE("issue 25: a cut tunnel longer than doubles resolve (1e18, 1e16 in a 20 m cube)",
+TEST_CASE("a cut tunnel longer than doubles resolve (1e18, 1e16 in a 20 m cube)",
           "[robustness][tools][tunnel]") {
   const auto tunnel = [](const std::string& point, const std::string& length) {
     return cube_scene("tunnel = { point = " + point +
@@ -99,7 +99,7 @@ TEST_CASE("issue 25: a cut tunnel longer than doubles resolve (1e18, 1e16 in a 2
 }
 
 TEST_CASE(
-    "issue 25: joints.h5 with /zones/mesh_* datasets missing, or a mesh outside the "
+    "joints.h5 with /zones/mesh_* datasets missing, or a mesh outside the "
     "domain, is refused by slice-cut",
     "[robustness][tools][mesh]") {
   test::TempDir tmp;
@@ -132,7 +132,7 @@ TEST_CASE(
                 "slice-joints", {"no volume inside the domain"});
 }
 
-TEST_CASE("issue 25: --seed above 2^63 - 1 is refused, not clamped", "[robustness][tools]") {
+TEST_CASE("--seed above 2^63 - 1 is refused, not clamped", "[robustness][tools]") {
   test::TempDir tmp;
   const std::string scene = test::data_path("cube-3sets.toml").string();
   const std::string out = (tmp / "j.h5").string();
@@ -153,8 +153,7 @@ TEST_CASE("issue 25: --seed above 2^63 - 1 is refused, not clamped", "[robustnes
   CHECK(slice::read_joints(out).seed == 9223372036854775807u);
 }
 
-TEST_CASE("issue 25: /geometry values no reader checked are refused",
-          "[robustness][tools][geometry]") {
+TEST_CASE("/geometry values no reader checked are refused", "[robustness][tools][geometry]") {
   test::TempDir tmp;
   const path geom = test::run_pipeline(tmp, "cube-3sets.toml", test::Stage::geometry);
   const path bad = tmp / "bad.h5", out = tmp / "out.vtu";
@@ -206,7 +205,7 @@ TEST_CASE("issue 25: /geometry values no reader checked are refused",
       0);
 }
 
-TEST_CASE("issue 25: a 2-D geom.h5 with a vertex off the plane (y = 1) is refused",
+TEST_CASE("a 2-D geom.h5 with a vertex off the plane (y = 1) is refused",
           "[robustness][tools][geometry][2d]") {
   test::TempDir tmp;
   const path geom = test::run_pipeline(tmp, "vajont-section.toml", test::Stage::geometry);
