@@ -162,3 +162,33 @@ TEST_CASE("slice-joints refuses a bad tunnel with its line", "[tools][tunnel][ba
        {":5", "not star-shaped about the axis", "visible"}},
   });
 }
+
+TEST_CASE("an open cut is a tunnel whose outline is the cut's profile (data/open-cut.toml)",
+          "[tools][tunnel]") {
+  // docs/scenes.md, "An open cut or bench": the profile (a bench at z = 10 east of x = 25, a face
+  // from (25, 10) up to (18.6, 35)) closed above the ground and past the east side, swept along
+  // the whole 20 m of the domain. Removed: 20 x the profile's area under the ground (z = 30) and
+  // inside x <= 40, a trapezium 20 high between widths 15 and 40 - (25 - 6.4 x 20 / 25).
+  test::TempDir tmp;
+  const auto geom = test::geometry_of_text(tmp, test::read_bytes(test::data_path("open-cut.toml")));
+  const auto bs = slice::read_blocks(geom);
+  REQUIRE(bs.geometry);
+  const double top_width = 40 - (25 - 6.4 * 20 / 25);
+  const double removed_want = 20 * 20 * (15 + top_width) / 2;
+  double removed = 0, total = 0;
+  std::size_t inside = 0;
+  const auto face_x = [](double z) { return 25 - 6.4 * (z - 10) / 25; };  // the face at height z
+  for (std::size_t b = 0; b < bs.blocks.size(); ++b) {
+    const double v = bs.geometry->volume[b];
+    total += v;
+    if (bs.blocks[b].flags & slice::kRemoved) {
+      removed += v;
+      continue;
+    }
+    const Vec3& c = bs.geometry->centroid[b];
+    inside += c.z() > 10 + 1e-9 && c.x() > face_x(c.z()) + 1e-9 ? 1 : 0;
+  }
+  CHECK_THAT(total, WithinRel(40.0 * 20 * 30, 1e-12));
+  CHECK_THAT(removed, WithinRel(removed_want, 1e-9));
+  CHECK(inside == 0);  // the kept rock ends on the bench and the face
+}
