@@ -4,7 +4,7 @@
 # --cores 2, each time followed by three reruns with nothing changed; then the same with the
 # scene's three densities raised from 1e-3 to 5e-3 and 1e-2 per m3 (about 100,000 and 260,000
 # blocks per seed instead of 12,000). Wall times from the shell; results/workflow.csv and results/workflow.png.
-#   bash pipelines/bench/workflow.sh        (after bash pipelines/setup)
+#   bash pipelines/bench/workflow.sh        (after bash pipelines/setup --tests: yade, snakemake)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 results=$root/pipelines/bench/results

@@ -4,7 +4,7 @@
 # (--yade-law mohr-coulomb) and with LAW = 'volumetric' (YADE's own law alone), each on one core:
 # WARMUP steps of settling, then STEPS timed steps, engine by engine (yade-law.py). Writes
 # results/yade-law.csv.
-#   bash pipelines/bench/yade-law.sh          (after bash pipelines/setup; about 25 minutes)
+#   bash pipelines/bench/yade-law.sh          (after bash pipelines/setup --tests; about 25 minutes)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 bench=$root/pipelines/bench

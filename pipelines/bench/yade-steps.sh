@@ -14,7 +14,7 @@
 # models, so that a run stays within minutes). Then the 1k box's touching and exported models
 # run 150 steps of settling, timed every 10 (yade-settle.py). Writes results/yade-steps.csv,
 # results/yade-settle.csv and results/yade-steps.png.
-#   bash pipelines/bench/yade-steps.sh                 (after bash pipelines/setup)
+#   bash pipelines/bench/yade-steps.sh                 (after bash pipelines/setup --tests: yade)
 #   YADE_STEPS_SIZES="9.6" YADE_STEPS_THREADS="1" bash pipelines/bench/yade-steps.sh   (quick)
 #   YADE_STEPS_PERF=dir bash ...    also `perf record -g` the timed steps into dir/*.data
 #   YADE_STEPS_VARIANTS="export" YADE_STEPS_SETTLE=0 YADE_STEPS_CSV=results/yade-steps-quiet.csv \
@@ -29,7 +29,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 read -r -a sizes <<<"${YADE_STEPS_SIZES:-9.6 21.4 37}"
 read -r -a threads <<<"${YADE_STEPS_THREADS:-1 2}"
-command -v yade >/dev/null || { echo "yade-steps: no yade on PATH; run pipelines/setup" >&2; exit 1; }
+command -v yade >/dev/null || { echo "yade-steps: no yade on PATH; run bash pipelines/setup --tests" >&2; exit 1; }
 
 machine="$(nproc)-vCPU $(lscpu | sed -n 's/^Model name: *//p' | head -n 1)"
 csv=${YADE_STEPS_CSV:-$results/yade-steps.csv}
