@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/tool.hpp"
+#include "info/dfn_stats.hpp"
 #include "slice/dem.hpp"
 #include "slice/export_yade.hpp"
 #include "slice/h5io.hpp"
@@ -62,6 +63,7 @@ ordered_json describe_joints(const slice::JointSystem& js) {
                     {"size", slice::to_string(js.sets[s].size.distribution)},
                     {"p32", js.sets[s].achieved_p32},
                     {"p10", js.sets[s].achieved_p10}});
+    sets.back().update(info::set_statistics(js, s));  // measured: docs/dfn-statistics.md
     const slice::TraceMapping& m = js.sets[s].mapping;
     if (!m.given) continue;
     // The traces on the set's mapping window, beside the trace lengths mapped there.
@@ -238,6 +240,12 @@ ordered_json describe_stability(const slice::BlockSystem& bs) {
   return j;
 }
 
+/// JSON text; bytes that are no UTF-8 (a Latin-1 path in the provenance) become U+FFFD rather
+/// than an exception.
+std::string dump(const ordered_json& j, int indent = -1) {
+  return j.dump(indent, ' ', false, ordered_json::error_handler_t::replace);
+}
+
 void print_text(const ordered_json& j, const std::string& indent = "") {
   for (const auto& [key, value] : j.items()) {
     if (value.is_object()) {
@@ -247,12 +255,12 @@ void print_text(const ordered_json& j, const std::string& indent = "") {
       std::cout << indent << key << ":\n";
       for (const auto& item : value) {
         std::cout << indent << "  -";
-        for (const auto& [k, v] : item.items()) std::cout << ' ' << k << '=' << v.dump();
+        for (const auto& [k, v] : item.items()) std::cout << ' ' << k << '=' << dump(v);
         std::cout << '\n';
       }
     } else {
       std::cout << indent << key << ": "
-                << (value.is_string() ? value.get<std::string>() : value.dump()) << '\n';
+                << (value.is_string() ? value.get<std::string>() : dump(value)) << '\n';
     }
   }
 }
@@ -263,14 +271,31 @@ int main(int argc, char** argv) {
   tool::Tool t{"slice-info", "Summarise a rockslice HDF5 file (joints.h5 or blocks.h5)."};
   std::string file;
   bool json = false;
-  t.cli.add_option("file", file, "a .h5 file written by a rockslice tool")->required();
+  t.cli
+      .add_option("file", file,
+                  "a .h5 file written by a rockslice tool, or a DFN file (.fab, .csv) to measure "
+                  "its sets")
+      ->required();
   t.cli.add_flag("--json", json, "print JSON on stdout instead of text");
   slice::YadeOptions yade;  // the time step of geom.h5's YADE model, as slice-export sets it
   tool::add_yade_timestep_options(t.cli, yade);
   return t.run(argc, argv, [&] {
     yade.validate();
-    const slice::FileHeader h = slice::read_header(file);
     ordered_json j;
+    if (info::is_dfn_file(file)) {  // a FAB or CSV on its own: in the box of its fractures
+      j["file"] = file;
+      j["kind"] = "dfn";
+      j["dimension"] = 3;
+      j["domain_is"] = "the bounding box of the fractures' corners";
+      j.update(describe_joints(info::dfn_file_joints(file)));
+      const std::string stats = json ? "" : info::statistics_text(j);
+      if (json)
+        std::cout << dump(j, 2) << '\n';
+      else
+        print_text(j), std::cout << stats;
+      return;
+    }
+    const slice::FileHeader h = slice::read_header(file);
     j["file"] = file;
     j["kind"] = slice::to_string(h.kind);
     j["schema"] = h.schema;
@@ -318,9 +343,10 @@ int main(int argc, char** argv) {
         if (bs.stability) j["stability"] = describe_stability(bs);
       }
     }
+    const std::string stats = json ? "" : info::statistics_text(j);
     if (json)
-      std::cout << j.dump(2) << '\n';
+      std::cout << dump(j, 2) << '\n';
     else
-      print_text(j);
+      print_text(j), std::cout << stats;
   });
 }

@@ -14,6 +14,7 @@
 #include "scene_common.hpp"
 #include "slice/error.hpp"
 #include "slice/orientation.hpp"
+#include "slice/orientation_stats.hpp"
 #include "slice/polytope.hpp"
 #include "slice/scene.hpp"
 #include "slice/stochastic.hpp"
@@ -108,17 +109,18 @@ JointSystem generate_joints(const Scene& scene) {
     JointSetSpec& spec = js.sets[s];
     std::vector<const Joint*> mine;
     if (spec.intensity == SetIntensity::deterministic) {
-      // Its mean orientation: that of the sum of its joints' upward normals.
-      Vec3 sum = Vec3::Zero();
+      // Its mean orientation: the Fisher mean of its joints' poles folded into one hemisphere
+      // (orientation_stats.hpp; summing upward normals is wrong for steep sets).
+      std::vector<Vec3> normals;
       for (std::size_t i = 0; i < scene.joints.size(); ++i)
         if (js.joints[i].set == std::int32_t(s)) {
           mine.push_back(&js.joints[i]);
-          sum += js.joints[i].plane.normal;
+          normals.push_back(js.joints[i].plane.normal);
         }
-      if (sum.norm() > 0) {
-        const DipAndDirection dd = dip_from_normal(sum);
-        spec.dip_deg = dd.dip_deg;
-        spec.dip_direction_deg = dd.dip_direction_deg;
+      if (!normals.empty()) {
+        const OrientationStats os = orientation_stats(normals);
+        spec.dip_deg = os.mean_dip_deg;
+        spec.dip_direction_deg = os.mean_dip_direction_deg;
       }
     }
     const Vec3 n = dip_normal(spec.dip_deg, spec.dip_direction_deg, scene.dimension);
