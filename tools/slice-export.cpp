@@ -82,6 +82,10 @@ int main(int argc, char** argv) {
       const bool joints_file = slice::read_header(in).kind == slice::FileKind::joints;
       const slice::JointSystem js =
           joints_file ? slice::read_joints(in) : slice::read_blocks(in).joints;
+      if (js.dimension != 3)  // the input is 2-D, not the output
+        throw slice::Error(
+            in, "is a 2-D section (dimension 2): its joints are lines, and FAB holds 3-D polygons",
+            "export the joints of the 3-D scene (without [section])");
       const slice::FabStats st = slice::write_fab(out, js);
       t.say_when_written(
           std::to_string(st.fractures) + " fractures (" + std::to_string(st.persistent) +

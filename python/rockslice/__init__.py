@@ -17,8 +17,8 @@ rockslice.yade builds YADE bodies from a model inside yade.
 import os as _os
 
 from ._rockslice import (BOUNDARY, FIXED, REMOVED, Error, Model, __version__, _CutArgs,
-                         _cut, _joints, _prune, _save, _slice, _stability, _vertices, _with_joints,
-                         load)
+                         _cut, _joints, _prune, _save, _slice, _stability, _vertices, _with_joints)
+from ._rockslice import load as _load
 from . import _toml
 
 __all__ = ['slice', 'load', 'joints', 'cut', 'prune', 'vertices', 'stability', 'Model', 'Error',
@@ -34,6 +34,59 @@ def _error(where, problem, fix):
     e = Error(('%s: %s' % (where, problem) + ('; ' + fix if fix else '')).replace('\n', '\\n'))
     e.where, e.problem, e.fix = where, problem, fix
     return e
+
+
+# Arguments as the library takes them. A value of the wrong type raises TypeError, one that no
+# C++ type holds (2**70, 1e400, a lone surrogate, a NUL in a path, an empty path) rockslice.Error
+# naming the argument: one line each, never pybind11's four-line TypeError or RuntimeError.
+def _path(name, path):
+    """A file name (str, bytes or os.PathLike) as a str (os.fsdecode's, which the extension
+    encodes back to the same bytes)."""
+    if not isinstance(path, (str, bytes, _os.PathLike)):
+        raise TypeError('%s is a file name (str, bytes or os.PathLike), not %s'
+                        % (name, type(path).__name__))
+    path = _os.fspath(path)
+    try:
+        raw = _os.fsencode(path)
+    except UnicodeEncodeError:
+        raise _error(name, '%r holds a lone surrogate, which no file name holds' % path,
+                     'give the name as bytes, or as os.fsdecode gives it') from None
+    if not raw:
+        raise _error(name, 'is empty', 'give the name of a file')
+    if b'\0' in raw:
+        raise _error(name, '%r holds a NUL character, which no file name holds' % path,
+                     'remove it')
+    return _os.fsdecode(raw)
+
+
+def _text(name, value):
+    """A str the library takes as UTF-8 text."""
+    if not isinstance(value, str):
+        raise TypeError('%s is a str, not %s' % (name, type(value).__name__))
+    try:
+        value.encode('utf-8')
+    except UnicodeEncodeError:
+        raise _error(name, '%r holds a lone surrogate, which is no text' % value,
+                     'give valid Unicode text') from None
+    return value
+
+
+def _whole(name, value, bits=63):
+    """An integer argument (int() of it, as before) that a C++ integer of `bits` holds."""
+    v = int(value)
+    if not -2 ** bits <= v < 2 ** bits:
+        raise _error(name, '%d is out of range' % v,
+                     'give an integer below 2^%d (%d)' % (bits, 2 ** bits))
+    return v
+
+
+def _number(name, value):
+    """A float argument: float() of it, rockslice.Error for an int past the doubles."""
+    try:
+        return float(value)
+    except OverflowError:
+        raise _error(name, '%d is too large for a double' % value,
+                     'give a number of magnitude below 1.8e308') from None
 
 
 def _seed(seed):
@@ -52,9 +105,15 @@ def _scene(scene):
     """(text, name, lines): a TOML file (text '' and its path) or a dict (its TOML text)."""
     if isinstance(scene, dict):
         text, lines = _toml.dump(scene)
+        try:
+            text.encode('utf-8')
+        except UnicodeEncodeError as e:  # a lone surrogate in a string: no TOML text holds it
+            key = lines[text.count('\n', 0, e.start)]
+            raise _error(key, 'holds a lone surrogate (%r), which is no text'
+                         % text[e.start:e.end], 'give valid Unicode text') from None
         return text, _DICT_NAME, lines
     if isinstance(scene, (str, bytes, _os.PathLike)):
-        return '', _os.fsdecode(scene), None
+        return '', _path('scene', scene), None
     raise TypeError('a scene is a TOML file name or a dict, not %s' % type(scene).__name__)
 
 
@@ -80,7 +139,8 @@ def _cut_args(lp, threads, max_blocks=0, certify=False):
     a = _CutArgs()
     if not isinstance(lp, str):
         raise _error('lp', '%r is not a backend' % (lp,), 'give "native", "ipopt" or "exact"')
-    a.lp, a.threads, a.max_blocks, a.certify = lp, int(threads), int(max_blocks), bool(certify)
+    a.lp, a.threads = _text('lp', lp), _whole('threads', threads, 31)
+    a.max_blocks, a.certify = _whole('max_blocks', max_blocks), bool(certify)
     return a
 
 
@@ -130,17 +190,22 @@ def vertices(model, threads=0, lp='native', progress=None):
 
 
 def stability(model, free_faces='', density=2650.0, seismic=0.0, seismic_azimuth=0.0,
-              water_table=None, support_pressure=0.0, fos_target=1.0, threads=0, progress=None):
+              water_table=None, support_pressure=0.0, fos_target=1.0, max_group=8, threads=0,
+              progress=None):
     """slice-stability in-process: a new Model with model.stability and model.contacts
     (docs/stability.md). free_faces: '+z,-x', the domain faces that are free surfaces; the
     other options as the tool's (density kg/m3, seismic coefficient k towards seismic_azimuth
-    degrees from North, water_table z, support_pressure Pa, fos_target)."""
+    degrees from North, water_table z, support_pressure Pa, fos_target, max_group: the most
+    bodies in a group that fails together, 1 for one body at a time)."""
     call = _call('stability', free_faces=free_faces or None, density=density, seismic=seismic,
                  seismic_azimuth=seismic_azimuth, water_table=water_table,
-                 support_pressure=support_pressure, fos_target=fos_target)
-    return _stability(model, str(free_faces), float(density), float(seismic),
-                      float(seismic_azimuth), None if water_table is None else float(water_table),
-                      float(support_pressure), float(fos_target), int(threads), call, progress)
+                 support_pressure=support_pressure, fos_target=fos_target, max_group=max_group)
+    return _stability(model, _text('free_faces', str(free_faces)), _number('density', density),
+                      _number('seismic', seismic), _number('seismic_azimuth', seismic_azimuth),
+                      None if water_table is None else _number('water_table', water_table),
+                      _number('support_pressure', support_pressure),
+                      _number('fos_target', fos_target), _whole('max_group', max_group),
+                      _whole('threads', threads, 31), call, progress)
 
 
 def _save_model(self, path, compress=False, provenance=None):
@@ -151,12 +216,22 @@ def _save_model(self, path, compress=False, provenance=None):
     a path that is not a regular file (a FIFO, a device, /dev/stdout). A path that is one of the
     model's inputs (its scene, a file the scene names) raises rockslice.Error, as the tools
     refuse -o on their input."""
+    if provenance is not None and not isinstance(provenance, dict):
+        raise TypeError('provenance is a dict of str, not %s' % type(provenance).__name__)
     given = dict(provenance or {})
+    for key in given:
+        if not isinstance(key, str):
+            raise TypeError('provenance keys are str, not %s' % type(key).__name__)
     unknown = sorted(set(given) - set(self.provenance))
     if unknown:
         raise _error('provenance', 'unknown keys %s' % ', '.join(unknown),
                      'give some of %s' % ', '.join(sorted(self.provenance)))
-    _save(self, _os.fsdecode(path), bool(compress), given)
+    for key, value in given.items():
+        _text('provenance[%r]' % key, value)
+        if '\0' in value:  # HDF5 strings end at a NUL
+            raise _error('provenance[%r]' % key, '%r holds a NUL character' % value,
+                         'remove it; nothing was written')
+    _save(self, _path('path', path), bool(compress), given)
 
 
 def _with_joints_model(self, index):
@@ -171,9 +246,25 @@ def _with_joints_model(self, index):
                                                                           self.joint_count),
                          'give one value per joint')
         index = np.flatnonzero(index)
+    elif index.size and index.dtype.kind == 'O' and all(
+            hasattr(i, '__index__') and not isinstance(i, bool) for i in index.flat):
+        # Python ints past int64 (numpy keeps them as objects): no such joint.
+        big = next(int(i) for i in index.flat if not -2 ** 63 <= int(i) < 2 ** 63)
+        raise _error('index', 'joint %d does not exist' % big,
+                     'give joints from 0 to %d' % (self.joint_count - 1))
     elif index.size and index.dtype.kind not in 'iu':
         raise _error('index', 'is of type %s' % index.dtype, 'give joint indices or a mask')
+    elif index.size and index.dtype.kind == 'u' and index.max() >= 2 ** 63:
+        raise _error('index', 'joint %d does not exist' % index.max(),
+                     'give joints from 0 to %d' % (self.joint_count - 1))
     return _with_joints(self, index.astype(np.int64).ravel().tolist())
+
+
+def load(path):
+    """The model in a joints.h5, blocks.h5 or geom.h5 file (a joints.h5 gives a model of stage
+    'joints', without blocks). Raises FileNotFoundError for a missing file and rockslice.Error
+    (a ValueError) with the tools' one-line message for a bad one."""
+    return _load(_path('path', path))
 
 
 Model.save = _save_model

@@ -431,12 +431,14 @@ vertices). The names are those of the HDF5 datasets (docs/python.md).)");
         d["direction"] = view_vector<double>(h, r.direction, 3);
         d["generation"] = view_vector<std::int32_t>(h, r.generation);
         d["planes"] = view_vector<std::int64_t>(h, r.planes, 2);
+        d["group"] = view_vector<std::int64_t>(h, r.group);
         return d;
       },
       "None, or a dict of arrays per block (/stability, docs/stability.md): removable, mode "
       "(0 not exposed, 1 not removable, 2 stable, 3 falls, 4 slides on one plane, 5 on two), "
       "fos (+inf where nothing can move), direction (B, 3), generation (round it fails in, -1 "
-      "never), planes (B, 2: joints of the sliding planes, -1 none)");
+      "never), planes (B, 2: joints of the sliding planes, -1 none), group (a group that fails "
+      "together: its smallest block, -1 none)");
   c.def_property_readonly(
       "contacts",
       [](py::handle h) -> py::object {
@@ -526,7 +528,8 @@ vertices). The names are those of the HDF5 datasets (docs/python.md).)");
 
   c.def(
       "friction_deg",
-      [](const Model& s, double default_deg) {
+      [](const Model& s, const py::object& given) {
+        const double default_deg = number_arg(given, "default");  // one line, not pybind's four
         std::vector<double> phi;
         std::size_t first_face = 0;
         for (std::size_t b = 0; b < s.bs->blocks.size();

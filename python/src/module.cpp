@@ -24,10 +24,11 @@ PYBIND11_MODULE(_rockslice, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const slice::Error& e) {
-      py::object value = py::reinterpret_borrow<py::object>(error.ptr())(e.what());
-      value.attr("where") = e.where();
-      value.attr("problem") = e.problem();
-      value.attr("fix") = e.fix();
+      // Through rockslice::text: a path's bytes that are no UTF-8 must not lose the message.
+      py::object value = py::reinterpret_borrow<py::object>(error.ptr())(rockslice::text(e.what()));
+      value.attr("where") = rockslice::text(e.where());
+      value.attr("problem") = rockslice::text(e.problem());
+      value.attr("fix") = rockslice::text(e.fix());
       PyErr_SetObject(error.ptr(), value.ptr());
     }
   });
@@ -44,13 +45,15 @@ PYBIND11_MODULE(_rockslice, m) {
                                                       {"gravity", &o.gravity},
                                                       {"timestep_factor", &o.timestep_factor}};
     py::dict out;
+    // rockslice::*_arg: rockslice.Error or a one-line TypeError, not "Unable to cast".
     for (const auto& [name, field] : fields) {
-      if (given.contains(name)) *field = given[name].cast<double>();
+      if (given.contains(name)) *field = rockslice::number_arg(given[name], name);
       out[name] = *field;
     }
-    if (given.contains("steps")) o.steps = given["steps"].cast<long>();
+    if (given.contains("steps")) o.steps = rockslice::whole_arg(given["steps"], "steps");
     out["steps"] = o.steps;
-    if (given.contains("law")) o.law = slice::parse_yade_law(given["law"].cast<std::string>());
+    if (given.contains("law"))
+      o.law = slice::parse_yade_law(rockslice::text_arg(given["law"], "law"));
     out["law"] = slice::to_string(o.law);
     o.validate();
     return out;

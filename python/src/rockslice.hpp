@@ -3,6 +3,7 @@
 // runner that calls the library off the interpreter's lock so that Ctrl-C interrupts it.
 #include <pybind11/pybind11.h>
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -49,6 +50,20 @@ void run_interruptible(const std::function<void(const slice::Progress&)>& work,
 /// whose content hashes to `sha256`.
 slice::Provenance python_provenance(const std::string& call, const std::string& input,
                                     const std::string& sha256);
+
+/// `s` (a message, a path) as a Python str: bytes that are no UTF-8 (a path's) as escapes
+/// ("\xff"), so that a message is never lost to a UnicodeDecodeError.
+py::str text(const std::string& s);
+
+/// Raises `type` (PyExc_OSError, ...) with `line` as its message.
+[[noreturn]] void raise(PyObject* type, const std::string& line);
+
+/// A value given from Python as the library takes it, or rockslice.Error (a ValueError) naming
+/// `name` for a value no C++ type holds (2**70, 1e400, a lone surrogate), TypeError (one line)
+/// for a value of the wrong type: never pybind11's RuntimeError "Unable to cast".
+double number_arg(const py::handle& v, const std::string& name);
+std::int64_t whole_arg(const py::handle& v, const std::string& name);
+std::string text_arg(const py::handle& v, const std::string& name);
 
 void bind_model(py::module_& m);
 void bind_stages(py::module_& m);

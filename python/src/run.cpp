@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "rockslice.hpp"
+#include "slice/error.hpp"
 #include "slice/version.hpp"
 
 namespace rockslice {
@@ -105,6 +106,65 @@ void run_interruptible(const std::function<void(const slice::Progress&)>& work,
   if (raised) std::rethrow_exception(raised);
   if (failure) std::rethrow_exception(failure);
   hand_over(true);  // the last report, if the callback has not had it
+}
+
+py::str text(const std::string& s) {
+  PyObject* u = PyUnicode_DecodeUTF8(s.data(), Py_ssize_t(s.size()), "backslashreplace");
+  if (!u) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(u);
+}
+
+void raise(PyObject* type, const std::string& line) {
+  PyErr_SetObject(type, text(line).ptr());
+  throw py::error_already_set();
+}
+
+namespace {
+std::string repr_of(const py::handle& v) {
+  std::string r = py::repr(v).cast<std::string>();  // repr escapes surrogates: always UTF-8
+  return r.size() > 60 ? r.substr(0, 57) + "..." : r;
+}
+std::string type_of(const py::handle& v) {
+  return py::str(py::type::handle_of(v).attr("__name__")).cast<std::string>();
+}
+}  // namespace
+
+double number_arg(const py::handle& v, const std::string& name) {
+  if (!PyNumber_Check(v.ptr()) || PyBool_Check(v.ptr()))
+    throw py::type_error(name + " is a number, not " + type_of(v));
+  const double x = PyFloat_AsDouble(v.ptr());  // ints and numpy scalars too
+  if (x == -1.0 && PyErr_Occurred()) {
+    PyErr_Clear();  // OverflowError: an int past 1.8e308
+    throw slice::Error(name, repr_of(v) + " is too large for a double",
+                       "give a number of magnitude below 1.8e308");
+  }
+  return x;
+}
+
+std::int64_t whole_arg(const py::handle& v, const std::string& name) {
+  if (PyBool_Check(v.ptr()) || !PyIndex_Check(v.ptr()))
+    throw py::type_error(name + " is an integer, not " + type_of(v));
+  const py::object i = py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr()));
+  if (!i) throw py::error_already_set();
+  int overflow = 0;
+  const long long x = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow != 0)
+    throw slice::Error(name, repr_of(v) + " is out of range",
+                       "give an integer from -2^63 to 2^63 - 1");
+  if (x == -1 && PyErr_Occurred()) throw py::error_already_set();
+  return x;
+}
+
+std::string text_arg(const py::handle& v, const std::string& name) {
+  if (!PyUnicode_Check(v.ptr())) throw py::type_error(name + " is a str, not " + type_of(v));
+  Py_ssize_t size = 0;
+  const char* utf8 = PyUnicode_AsUTF8AndSize(v.ptr(), &size);
+  if (!utf8) {  // a lone surrogate ('\udc80', as os.fsdecode makes of a byte that is no UTF-8)
+    PyErr_Clear();
+    throw slice::Error(name, repr_of(v) + " holds a lone surrogate, which is no text",
+                       "give valid Unicode text");
+  }
+  return std::string(utf8, std::size_t(size));
 }
 
 slice::Provenance python_provenance(const std::string& call, const std::string& input,

@@ -60,8 +60,7 @@ void check_input(const fs::path& path) {
         slice::Error(path.string(), "no such file",
                      "check the path (relative to " + fs::current_path(ec).string() + ")")
             .what();
-    PyErr_SetString(PyExc_FileNotFoundError, line.c_str());
-    throw py::error_already_set();
+    raise(PyExc_FileNotFoundError, line);
   }
 }
 
@@ -209,7 +208,8 @@ void bind_stages(py::module_& m) {
       "_stability",
       [](const Model& model, const std::string& free_faces, double density, double seismic,
          double seismic_azimuth, std::optional<double> water_table, double support_pressure,
-         double fos_target, int threads, const std::string& call, const py::object& progress) {
+         double fos_target, std::int64_t max_group, int threads, const std::string& call,
+         const py::object& progress) {
         if (model.stage != Stage::geometry)
           throw slice::Error("model", std::string("is of stage '") + to_string(model.stage) + "'",
                              "compute its vertices first: rockslice.vertices(model)");
@@ -221,6 +221,7 @@ void bind_stages(py::module_& m) {
         opt.water_table = water_table;
         opt.support_pressure = support_pressure;
         opt.fos_target = fos_target;
+        opt.max_group = max_group < 1 ? 0 : std::size_t(max_group);  // 0: refused below
         slice::check_stability_options(opt);
         slice::BlockSystem bs = *model.bs;
         run_interruptible(
@@ -235,7 +236,8 @@ void bind_stages(py::module_& m) {
       },
       py::arg("model"), py::arg("free_faces"), py::arg("density"), py::arg("seismic"),
       py::arg("seismic_azimuth"), py::arg("water_table"), py::arg("support_pressure"),
-      py::arg("fos_target"), py::arg("threads"), py::arg("call"), py::arg("progress"));
+      py::arg("fos_target"), py::arg("max_group"), py::arg("threads"), py::arg("call"),
+      py::arg("progress"));
 
   m.def(
       "_with_joints",
@@ -293,7 +295,8 @@ void bind_stages(py::module_& m) {
             {"input", &prov.input},
             {"input_sha256", &prov.input_sha256}};
         for (const auto& [name, field] : fields)
-          if (given.contains(name)) *field = given[name].cast<std::string>();
+          if (given.contains(name))
+            *field = text_arg(given[name], std::string("provenance['") + name + "']");
         check_not_an_input(model, path);  // the model's, not `given`: what was read
         try {
           py::gil_scoped_release unlocked;
@@ -303,8 +306,7 @@ void bind_stages(py::module_& m) {
             slice::write_blocks(path, *model.bs, prov, opt);
         } catch (const slice::Error& e) {
           // The file could not be written: an OSError, with the library's line.
-          PyErr_SetString(PyExc_OSError, e.what());
-          throw py::error_already_set();
+          raise(PyExc_OSError, e.what());
         }
       },
       py::arg("model"), py::arg("path"), py::arg("compress"), py::arg("provenance"));

@@ -1,7 +1,8 @@
 #pragma once
-// The fuzz targets whose code under test reads a file (fuzz_h5, fuzz_obj, fuzz_stl,
-// fuzz_export): the input is written to one file per process in the temporary directory
-// ($TMPDIR; libFuzzer's -jobs and -fork run several processes), removed at exit.
+// The fuzz targets whose code under test reads a file (fuzz_h5, fuzz_obj, fuzz_stl, fuzz_fab,
+// fuzz_csv, fuzz_asc, fuzz_export): the input is written to one file per process in the
+// temporary directory ($TMPDIR; libFuzzer's -jobs and -fork run several processes), removed at
+// exit.
 #include <unistd.h>
 
 #include <cstddef>

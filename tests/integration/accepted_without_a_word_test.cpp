@@ -132,7 +132,7 @@ TEST_CASE(
                 "slice-joints", {"no volume inside the domain"});
 }
 
-TEST_CASE("--seed above 2^63 - 1 is refused, not clamped", "[robustness][tools]") {
+TEST_CASE("a --seed above 2^63 - 1 is refused, not clamped", "[robustness][tools]") {
   test::TempDir tmp;
   const std::string scene = test::data_path("cube-3sets.toml").string();
   const std::string out = (tmp / "j.h5").string();

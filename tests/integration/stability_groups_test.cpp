@@ -254,7 +254,7 @@ TEST_CASE("the VTU export carries /stability per block, the groups too", "[tools
   CHECK(failing == 3);
 }
 
-TEST_CASE("a stab.h5 from before groups reads as one body at a time; a bad group is refused",
+TEST_CASE("a stab.h5 from before groups reads as one body at a time, and a bad group is refused",
           "[tools][stability]") {
   test::TempDir tmp;
   const auto geom = geometry_of(tmp, slab_scene(15, 40, false));

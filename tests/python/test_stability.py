@@ -1,14 +1,16 @@
 # rockslice.stability (issue 41): the arrays slice-stability writes, in-process; the file the
 # tool writes, byte for byte given its provenance; loaded files carry them; bad options raise.
 
+import os
+
 import h5py
 import numpy as np
 import pytest
 
 import rockslice
-from conftest import data, run_tool, tool_pipeline
+from conftest import SOURCE, data, run_tool, tool_pipeline
 
-STABILITY = ('removable', 'mode', 'fos', 'direction', 'generation', 'planes')
+STABILITY = ('removable', 'mode', 'fos', 'direction', 'generation', 'planes', 'group')
 CONTACTS = ('pairs', 'faces', 'area', 'centroid', 'normal', 'joint', 'fraction', 'free')
 
 
@@ -45,12 +47,35 @@ def test_stability_equals_the_tool(tmp_path):
     ({'free_faces': '+q'}, '--free-faces'),
     ({'water_table': float('nan')}, '--water-table'),
     ({'fos_target': 0}, '--fos-target'),
+    ({'max_group': 0}, '--max-group'),
+    ({'max_group': 65}, '--max-group'),
 ])
 def test_bad_options_raise(tmp_path, kwargs, words):
     _, _, g = tool_pipeline(tmp_path, data('cube-3sets.toml'))
     with pytest.raises(rockslice.Error) as e:
         rockslice.stability(rockslice.load(g), **kwargs)
     assert words in str(e.value)
+
+
+def test_groups_as_the_tool(tmp_path):
+    # tests/data/stability-dem/two-block.toml: two blocks that hold alone fail together
+    # (docs/stability.md, "Groups"); max_group=1 is the answer one body at a time.
+    scene = os.path.join(SOURCE, 'tests', 'data', 'stability-dem', 'two-block.toml')
+    _, _, g = tool_pipeline(tmp_path, scene)
+    stab = tmp_path / 'stab.h5'
+    run_tool('slice-stability', g, '-o', stab, '--free-faces', '+x,+z')
+    model = rockslice.stability(rockslice.load(g), free_faces='+x,+z')
+    with h5py.File(stab, 'r') as f:
+        group = f['stability']['group'][()]
+        assert f['stability'].attrs['max_group'] == 8
+    moving = np.flatnonzero(model.stability['mode'] > 0)
+    assert len(moving) == 2
+    assert np.array_equal(model.stability['group'], group)
+    assert (group[moving] == moving.min()).all()
+    assert (model.stability['generation'][moving] == 0).all()
+    alone = rockslice.stability(rockslice.load(g), free_faces='+x,+z', max_group=1)
+    assert (alone.stability['group'] == -1).all()
+    assert (alone.stability['generation'] == -1).all()
 
 
 def test_needs_vertices(tmp_path):

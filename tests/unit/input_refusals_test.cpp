@@ -63,7 +63,7 @@ std::string surface_error(const test::TempDir& tmp, const std::string& asc,
 
 }  // namespace
 
-TEST_CASE("issue-42 a surface on or below the whole domain is refused, as one above it is",
+TEST_CASE("a surface on or below the whole domain is refused, as one above it is",
           "[unit][surface][refusals]") {
   test::TempDir tmp;
   const auto flat = [](double h) { return [h](double, double) { return h; }; };
@@ -87,7 +87,7 @@ TEST_CASE("issue-42 a surface on or below the whole domain is refused, as one ab
   }
 }
 
-TEST_CASE("issue-42 a cut surface with more triangles in the domain than max_blocks is refused",
+TEST_CASE("a cut surface with more triangles in the domain than max_blocks is refused",
           "[unit][surface][refusals]") {
   test::TempDir tmp;
   // A 64 x 64 grid over a 60 m square: its cells centre on -1.5 .. 61.5, so the domain meets
@@ -114,7 +114,7 @@ TEST_CASE("issue-42 a cut surface with more triangles in the domain than max_blo
   CHECK(error("cut = true\n", "").empty());
 }
 
-TEST_CASE("issue-42 --yade-steps past the integers, or a time step of 0 or inf, is refused",
+TEST_CASE("a --yade-steps past the integers, or a time step of 0 or inf, is refused",
           "[unit][export][refusals]") {
   slice::YadeOptions o;
   o.steps = std::numeric_limits<long>::max();  // what CLI11 makes of 1e20
@@ -135,7 +135,7 @@ TEST_CASE("issue-42 --yade-steps past the integers, or a time step of 0 or inf, 
   CHECK(slice::write_yade_script(tmp / "m.py", bs, o).timestep > 0);
 }
 
-TEST_CASE("issue-42 --3dec-jkn so large that the time step is 0 s is refused",
+TEST_CASE("a --3dec-jkn so large that the time step is 0 s is refused",
           "[unit][export][refusals]") {
   const slice::BlockSystem bs = four_cubes(2);
   test::TempDir tmp;
@@ -152,7 +152,7 @@ TEST_CASE("issue-42 --3dec-jkn so large that the time step is 0 s is refused",
   CHECK(slice::write_3dec(tmp / "m.3dgrid", tmp / "m.dat", bs, o).critical_timestep > 0);
 }
 
-TEST_CASE("issue-42 a sphere's centre or a cylinder's ends too far for doubles are refused",
+TEST_CASE("a sphere's centre or a cylinder's ends too far for doubles are refused",
           "[unit][extract][refusals]") {
   const slice::BlockSystem bs = four_cubes();
   slice::ExtractOptions o;
@@ -181,9 +181,8 @@ TEST_CASE("issue-42 a sphere's centre or a cylinder's ends too far for doubles a
   CHECK(slice::extract_blocks(bs, o, "row.h5").stats.kept == 4);
 }
 
-TEST_CASE(
-    "issue-42 a tessellated fracture whose triangles overlap is refused, though the areas add up",
-    "[unit][dfn][refusals]") {
+TEST_CASE("a tessellated fracture whose triangles overlap is refused, though the areas add up",
+          "[unit][dfn][refusals]") {
   const auto fab = [](const std::string& second_triangle) {
     return "BEGIN FORMAT\n    Format = Ascii\n    XAxis = East\n    Scale = 100.0\n"
            "    No_Fractures = 0\n    No_TessFractures = 1\n    No_Nodes = 4\n"

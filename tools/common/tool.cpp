@@ -152,12 +152,13 @@ void check_stdout() {
   if (g_stdout_closed)
     throw slice::Error("stdout", "cannot write to it: it is closed (the tool was started with >&-)",
                        "give the tool a stdout (>/dev/null to drop what it prints)");
+  // The fix for the system's reason: under ulimit -f (EFBIG) more room on the disk would not help.
   const int e = g_stdout->error();
   throw slice::Error(
       "stdout",
       "cannot write to it" + (e != 0 ? " (" + std::string(std::strerror(e)) + ")" : std::string()),
-      "make room on the disk it goes to, or send it elsewhere; what was written "
-      "there is incomplete");
+      (e != 0 ? slice::write_error_fix(e) : std::string("send it elsewhere")) +
+          "; what was written there is incomplete");
 }
 
 // CLI11's message for a parse error as one line: control characters escaped, at most 300
@@ -192,7 +193,7 @@ void install_signal_handlers(const std::string& name) {
   for (const int sig : {SIGSEGV, SIGBUS}) sigaction(sig, &sa, nullptr);
   // A file size limit (ulimit -f) kills a process writing past it by SIGXFSZ, with no word and
   // the .partial left: ignored, the write fails with EFBIG ("File too large") and the writer
-  // reports it as it reports a full disk.
+  // reports it with the fix for that reason (slice::write_error_fix: raise the limit).
   std::signal(SIGXFSZ, SIG_IGN);
 }
 

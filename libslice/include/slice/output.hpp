@@ -10,8 +10,9 @@
 
 namespace slice {
 
-/// One output in progress. The constructor replaces a stale "<out>.partial" (left by a run that
-/// was killed), creates the .partial and locks it, and registers it so that
+/// One output in progress. An output that is a symbolic link (to a file, or dangling) is written
+/// where the link leads, and the link kept. The constructor replaces a stale "<out>.partial" (left
+/// by a run that was killed), creates the .partial and locks it, and registers it so that
 /// remove_partial_files() can delete it from a signal handler. If commit() is never reached (an
 /// exception), the destructor removes it.
 class PartialFile {
@@ -34,6 +35,7 @@ class PartialFile {
 
  private:
   std::filesystem::path out_;
+  std::filesystem::path file_;  // out_, or where its symlinks lead: renamed onto, links kept
   std::filesystem::path partial_;
   int slot_ = -1;  // registry slot (-1: not registered)
   int lock_ = -1;  // descriptor holding the lock on the .partial (-1: none)
@@ -69,6 +71,11 @@ void remove_partial_files() noexcept;
 /// " (<what the system said>)" for the errno of a failed write, e.g. " (No space left on
 /// device)"; "" if errno is 0. For the messages of writers that use streams.
 std::string system_reason();
+
+/// The fix for a write the system refused with `error` (an errno): "raise the file size limit
+/// (ulimit -f; it is 1024 bytes now) ..." for EFBIG, "make room on the disk ..." for ENOSPC,
+/// "check that the directory is writable" for EACCES, ...; never advice that does not fit.
+std::string write_error_fix(int error);
 
 /// For a writer that has just opened `path` with truncation (HDF5's H5Fcreate, fopen "wb") while
 /// it is empty: takes now, at no cost, the flush that ext4 (auto_da_alloc) and XFS otherwise make

@@ -34,9 +34,11 @@ class TextOut {
  public:
   explicit TextOut(const std::filesystem::path& path) : part_(path), name_(path.string()) {
     f_ = std::fopen(part_.path().c_str(), "wb");
-    if (!f_)
-      throw Error(name_, std::string("cannot be written (") + std::strerror(errno) + ")",
-                  "check that the directory is writable");
+    if (!f_) {
+      const int e = errno;
+      throw Error(name_, std::string("cannot be written (") + std::strerror(e) + ")",
+                  write_error_fix(e));
+    }
     settle_truncation(part_.path());
     buf_.reserve(kFlush + 4096);
   }
@@ -64,8 +66,9 @@ class TextOut {
     buf_.clear();
   }
   [[noreturn]] void fail() const {
-    throw Error(name_, std::string("could not be written (") + std::strerror(errno) + ")",
-                "check that the disk is not full");
+    const int e = errno;
+    throw Error(name_, std::string("could not be written (") + std::strerror(e) + ")",
+                write_error_fix(e));
   }
   PartialFile part_;
   std::string name_;

@@ -343,9 +343,11 @@ YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem&
 
     s << kYadeProgram;
     s.flush();
-    if (!s)
+    if (!s) {
+      const int e = errno;
       throw Error(out.string(), "cannot write " + part.path().filename().string() + system_reason(),
-                  "check that the disk is not full");
+                  write_error_fix(e));
+    }
   }
   part.commit();
   return st;

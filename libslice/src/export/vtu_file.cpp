@@ -60,9 +60,11 @@ void compress_block(VtuCompressor c, const unsigned char* in, std::size_t n,
 File::File(const std::filesystem::path& path, std::string what, VtuCompressor compressor)
     : what_(std::move(what)), compressor_(compressor) {
   f_ = std::fopen(path.c_str(), "wb");
-  if (!f_)
-    throw Error(what_, std::string("cannot be written (") + std::strerror(errno) + ")",
-                "check that the directory is writable");
+  if (!f_) {
+    const int e = errno;
+    throw Error(what_, std::string("cannot be written (") + std::strerror(e) + ")",
+                write_error_fix(e));
+  }
   settle_truncation(path);
   constexpr std::size_t kFileBuffer = std::size_t(1) << 20;
   buffer_ = std::make_unique<char[]>(kFileBuffer);
@@ -75,20 +77,24 @@ File::~File() {
 }
 
 void File::write(const void* data, std::size_t bytes) {
-  if (bytes && std::fwrite(data, 1, bytes, f_) != bytes)
-    throw Error(what_, std::string("could not be written (") + std::strerror(errno) + ")",
-                "check that the disk is not full");
+  if (bytes && std::fwrite(data, 1, bytes, f_) != bytes) {
+    const int e = errno;
+    throw Error(what_, std::string("could not be written (") + std::strerror(e) + ")",
+                write_error_fix(e));
+  }
 }
 
 void File::seek_write(std::int64_t at, const void* data, std::size_t bytes) {
   // A seek writes out the buffer first: its failure is a failed write (errno says why).
   const auto seek = [&](off_t to, int whence) {
     errno = 0;
-    if (fseeko(f_, to, whence) != 0)
-      throw Error(what_,
-                  std::string("could not be written (") +
-                      (errno ? std::strerror(errno) : "seek failed") + ")",
-                  "check that the disk is not full");
+    if (fseeko(f_, to, whence) != 0) {
+      const int e = errno;
+      throw Error(
+          what_,
+          std::string("could not be written (") + (e ? std::strerror(e) : "seek failed") + ")",
+          write_error_fix(e));
+    }
   };
   seek(off_t(at), SEEK_SET);
   write(data, bytes);
@@ -238,9 +244,11 @@ void File::finish() {
   const bool bad = std::fflush(f_) != 0 || std::ferror(f_);
   const int closed = std::fclose(f_);
   f_ = nullptr;
-  if (bad || closed != 0)
-    throw Error(what_, std::string("could not be written (") + std::strerror(errno) + ")",
-                "check that the disk is not full");
+  if (bad || closed != 0) {
+    const int e = errno;
+    throw Error(what_, std::string("could not be written (") + std::strerror(e) + ")",
+                write_error_fix(e));
+  }
 }
 
 }  // namespace slice::vtu

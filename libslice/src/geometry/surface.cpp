@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "slice/error.hpp"
+#include "slice/utf8.hpp"
 #include "slice/vertices.hpp"
 
 namespace slice {
@@ -45,14 +46,38 @@ std::string at_line(const std::filesystem::path& file, std::int64_t line) {
   return file.string() + ":" + std::to_string(line);
 }
 
-// The whitespace-separated tokens of a text, with the line of each.
+// At most 40 characters of a token for a message, quoted; bytes that are no UTF-8 escaped
+// (\xe9), "..." where it is cut: a message never echoes a whole file.
+std::string shown(std::string_view s) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out = "\"";
+  std::size_t i = 0;
+  for (std::size_t n = 0; i < s.size() && n < 40; ++n) {
+    const auto [c, len] = decode_utf8(s, i);
+    if (len == 0 || c < 0x20 || c == 0x7f) {
+      const auto u = static_cast<unsigned char>(s[i++]);
+      out += "\\x";
+      out += kHex[u >> 4];
+      out += kHex[u & 15];
+    } else {
+      out.append(s.substr(i, len));
+      i += len;
+    }
+  }
+  return out + (i < s.size() ? "...\"" : "\"");
+}
+
+// The whitespace-separated tokens of a text, with the line of each. A line ends at LF, CRLF or
+// a lone CR (old Mac files).
 struct Tokens {
   std::string_view text;
   std::size_t pos = 0;
   std::int64_t line = 1;  // the line of the last token next() returned
   std::string_view next() {
     while (pos < text.size() && std::isspace(static_cast<unsigned char>(text[pos]))) {
-      if (text[pos] == '\n') ++line;
+      if (text[pos] == '\n' ||
+          (text[pos] == '\r' && (pos + 1 == text.size() || text[pos + 1] != '\n')))
+        ++line;
       ++pos;
     }
     const std::size_t start = pos;
@@ -83,7 +108,7 @@ double header_number(const std::filesystem::path& file, const Header& h, const s
   const HeaderValue& v = h.at(key);
   double x = 0;
   if (!to_double(v.text, x) || !std::isfinite(x))
-    throw Error(at_line(file, v.line), key + " is \"" + v.text + "\", not a finite number",
+    throw Error(at_line(file, v.line), key + " is " + shown(v.text) + ", not a finite number",
                 kGridFix);
   return x;
 }
@@ -94,17 +119,17 @@ std::int64_t header_count(const std::filesystem::path& file, const Header& h,
   std::int64_t n = 0;
   const auto [end, ec] = std::from_chars(v.text.data(), v.text.data() + v.text.size(), n);
   if (ec != std::errc() || end != v.text.data() + v.text.size())
-    throw Error(at_line(file, v.line), key + " is \"" + v.text + "\", not a whole number",
+    throw Error(at_line(file, v.line), key + " is " + shown(v.text) + ", not a whole number",
                 kGridFix);
   if (n < 2)
     throw Error(at_line(file, v.line),
-                key + " is " + v.text +
+                key + " is " + shown(v.text) +
                     ": heights are at cell centres, and the surface spans between them, so a "
                     "grid needs at least 2 columns and 2 rows",
                 kGridFix);
   if (std::uintmax_t(n) > bytes)
     throw Error(at_line(file, v.line),
-                key + " is " + v.text + ", more than the file's " + std::to_string(bytes) +
+                key + " is " + shown(v.text) + ", more than the file's " + std::to_string(bytes) +
                     " bytes can hold",
                 "the header is damaged or the file is cut off: export the grid again");
   return n;
@@ -139,8 +164,7 @@ Header read_header(const std::filesystem::path& file, Tokens& tk) {
       return h;
     }
     if (std::find(std::begin(kGridKeys), std::end(kGridKeys), k) == std::end(kGridKeys))
-      throw Error(at_line(file, tk.line), "unknown header key \"" + std::string(key) + "\"",
-                  kGridFix);
+      throw Error(at_line(file, tk.line), "unknown header key " + shown(key), kGridFix);
     if (k == "xllcentre" || k == "yllcentre") k.replace(3, 6, "center");
     if (h.count(k))
       throw Error(at_line(file, tk.line), "the header gives " + k + " twice", "keep one");
@@ -173,6 +197,7 @@ HeightGrid read_ascii_grid(const std::filesystem::path& file) {
     throw Error(file.string(), "is not text (an ESRI ASCII grid is)",
                 "give the grid as ESRI ASCII (.asc), e.g. gdal_translate -of AAIGrid");
   Tokens tk{text};
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) tk.pos = 3;  // a UTF-8 byte-order mark: skipped
   const Header h = read_header(file, tk);
   HeightGrid g;
   one_of(file, h, {"ncols"});
@@ -195,6 +220,14 @@ HeightGrid read_ascii_grid(const std::filesystem::path& file) {
   g.x0 = header_number(file, h, xk) + (xk == "xllcorner" ? g.dx / 2 : 0);
   g.y0 = header_number(file, h, yk) + (yk == "yllcorner" ? g.dy / 2 : 0);
   if (h.count("nodata_value")) g.nodata = header_number(file, h, "nodata_value");
+  // Corner and cell size finite, their sums need not be (xllcorner 1e308, cellsize 1e308).
+  if (!std::isfinite(g.x0) || !std::isfinite(g.y0) || !std::isfinite(g.x(g.ncols - 1)) ||
+      !std::isfinite(g.y(0)))
+    throw Error(at_line(file, h.count("cellsize") ? h.at("cellsize").line : h.at("dx").line),
+                "the grid reaches past the largest number (its corner plus " +
+                    std::to_string(g.ncols) + " x " + std::to_string(g.nrows) + " cells of " +
+                    num(g.dx) + " x " + num(g.dy) + ")",
+                "check the header's corner and cell size, and their unit");
   // Each height takes a character and a separator at least: a count the file cannot hold is
   // refused before memory is taken for it.
   const std::uintmax_t n = std::uintmax_t(g.ncols) * std::uintmax_t(g.nrows);
@@ -217,16 +250,16 @@ HeightGrid read_ascii_grid(const std::filesystem::path& file) {
       if (col == 0) g.row_line.push_back(tk.line);
       double v = 0;
       if (!to_double(t, v))
-        throw Error(at_line(file, tk.line), "\"" + std::string(t) + "\" is not a number", kGridFix);
+        throw Error(at_line(file, tk.line), shown(t) + " is not a number", kGridFix);
       if (!std::isfinite(v))
-        throw Error(at_line(file, tk.line), "a height is " + std::string(t) + ", not finite",
+        throw Error(at_line(file, tk.line), "a height is " + shown(t) + ", not finite",
                     "give missing heights the NODATA_value of the header");
       g.z.push_back(v);
     }
   if (const std::string_view t = tk.next(); !t.empty())
     throw Error(at_line(file, tk.line),
                 "more than the " + std::to_string(g.nrows) + " x " + std::to_string(g.ncols) +
-                    " heights the header gives (\"" + std::string(t.substr(0, 20)) + "\")",
+                    " heights the header gives (" + shown(t) + ")",
                 "ncols or nrows is wrong, or the file holds more than one grid");
   return g;
 }

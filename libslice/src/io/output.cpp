@@ -1,6 +1,7 @@
 #include "slice/output.hpp"
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -152,9 +153,34 @@ void release(Held& h, bool remove) noexcept {
 
 }  // namespace
 
-PartialFile::PartialFile(fs::path out)
-    : out_(std::move(out)), partial_(out_.string() + ".partial") {
-  const fs::path dir = out_.has_parent_path() ? out_.parent_path() : fs::path(".");
+namespace {
+
+// The file an output path stands for: the path, or where its symbolic links lead (a link to a
+// file, or one that dangles: the file it names is made). Written there, the link stays a link;
+// renamed onto, the link itself was replaced by the new file and its target kept the old one.
+fs::path written_file(const fs::path& out) {
+  fs::path p = out;
+  for (int hops = 0; hops < 40; ++hops) {
+    struct stat st {};
+    if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return p;
+    std::error_code ec;
+    const fs::path target = fs::read_symlink(p, ec);
+    if (ec) return p;
+    p = target.is_absolute() ? target : p.parent_path() / target;
+  }
+  throw Error(out.string(), "is a loop of symbolic links (or a chain of more than 40)",
+              "give the path of a regular file (or of none yet) for the output; nothing was "
+              "written");
+}
+
+}  // namespace
+
+PartialFile::PartialFile(fs::path out) : out_(std::move(out)) {
+  if (out_.empty())  // not a name: the rename of ".partial" onto it would be the first to fail
+    throw Error("the output path", "is empty", "give the name of the file to write");
+  file_ = written_file(out_);
+  partial_ = file_.string() + ".partial";
+  const fs::path dir = file_.has_parent_path() ? file_.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw Error(out_.string(), "the directory " + dir.string() + " does not exist",
@@ -209,7 +235,7 @@ PartialFile::PartialFile(fs::path out)
       throw Error(
           out_.string(),
           "cannot create " + partial_.filename().string() + " (" + std::strerror(error) + ")",
-          "check that the directory is writable");
+          write_error_fix(error));
   }
 }
 
@@ -227,13 +253,13 @@ void PartialFile::commit() {
   {
     const std::lock_guard lock(g_held_mutex);
     if (g_holding) {
-      g_held.push_back({out_, partial_, slot_, lock_});
+      g_held.push_back({file_, partial_, slot_, lock_});
       slot_ = lock_ = -1;  // the held output owns them now
       committed_ = true;
       return;
     }
   }
-  rename_onto(partial_, out_);
+  rename_onto(partial_, file_);
   committed_ = true;
   unregister_partial(slot_);
   slot_ = -1;
@@ -283,6 +309,31 @@ std::string system_reason() {
   return e ? " (" + std::string(std::strerror(e)) + ")" : std::string();
 }
 
+std::string write_error_fix(int error) {
+  switch (error) {
+    case EFBIG: {  // RLIMIT_FSIZE (ulimit -f), or the file system's largest file
+      rlimit lim{};
+      if (::getrlimit(RLIMIT_FSIZE, &lim) == 0 && lim.rlim_cur != RLIM_INFINITY)
+        return "raise the file size limit (ulimit -f; it is " + std::to_string(lim.rlim_cur) +
+               " bytes now) or write a smaller file";
+      return "the file system cannot hold a file this large: write it to another one";
+    }
+    case ENOSPC:
+      return "make room on the disk or write to another one";
+    case EDQUOT:
+      return "your disk quota is used up: free some of it or write elsewhere";
+    case EACCES:
+    case EPERM:
+      return "check that the directory is writable";
+    case EROFS:
+      return "the file system is read-only: write elsewhere";
+    case EIO:
+      return "the disk reported an error: check it, or write elsewhere";
+    default:
+      return "check that the directory is writable and the disk is not full";
+  }
+}
+
 void write_text_file(const fs::path& out, const std::string& text) {
   PartialFile part(out);
   {
@@ -290,9 +341,11 @@ void write_text_file(const fs::path& out, const std::string& text) {
     std::ofstream s(part.path(), std::ios::binary);
     s << text;
     s.flush();
-    if (!s)
+    if (!s) {
+      const int e = errno;
       throw Error(out.string(), "cannot write " + part.path().filename().string() + system_reason(),
-                  "check that the directory is writable and the disk is not full");
+                  write_error_fix(e));
+    }
   }
   part.commit();
 }

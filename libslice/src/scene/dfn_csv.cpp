@@ -60,11 +60,12 @@ DfnFile read_dfn_csv(const std::filesystem::path& file, const DfnCsvOptions& opt
   for (std::size_t c = 0; c < names.size(); ++c) {
     const std::string name = lower(unquoted(names[c]));
     if (!column.emplace(name, c).second)
-      lines.fail("the header names column \"" + name + "\" twice", "name each column once");
+      lines.fail("the header names column " + dfn_text::excerpt(name) + " twice",
+                 "name each column once");
     // Other programs' columns (aperture, ...) are left alone; a near miss of ours is a typo.
     if (std::find(known.begin(), known.end(), name) == known.end())
       if (const std::string near = scene_read::closest(name, known); !near.empty())
-        lines.fail("the header's column \"" + name + "\" is not one rockslice reads",
+        lines.fail("the header's column " + dfn_text::excerpt(name) + " is not one rockslice reads",
                    "did you mean \"" + near + "\"?");
   }
   for (const auto& k : kRequired)
@@ -77,7 +78,13 @@ DfnFile read_dfn_csv(const std::filesystem::path& file, const DfnCsvOptions& opt
   };
   DfnFile out;
   std::map<std::string, std::size_t> set_index;
-  if (!col("set")) out.sets.push_back(default_set);
+  if (!col("set")) {
+    if (const std::string why = dfn_text::name_problem(default_set); !why.empty())
+      lines.fail("the file has no column \"set\", so its discs' set takes the file's name, " +
+                     dfn_text::excerpt(default_set) + ", which " + why,
+                 "add a column \"set\" naming each disc's set, or rename the file in UTF-8");
+    out.sets.push_back(default_set);
+  }
   JointSetSpec shape;
   shape.size.distribution = SizeDistribution::fixed;
   shape.shape = JointShape::ellipse;
@@ -94,6 +101,8 @@ DfnFile read_dfn_csv(const std::filesystem::path& file, const DfnCsvOptions& opt
     f.line = lines.number();
     f.disc = true;
     f.id = col("id") ? unquoted(v[*col("id")]) : "row " + std::to_string(row);
+    // Messages name the disc by its id: a long one or one that is no UTF-8 text, by an excerpt.
+    if (f.id.size() > 40 || !dfn_text::name_problem(f.id).empty()) f.id = dfn_text::excerpt(f.id);
     const auto num = [&](std::string_view k) {
       return lines.number_at(v[*col(k)], std::string(k) + " of disc " + f.id);
     };
@@ -101,35 +110,39 @@ DfnFile read_dfn_csv(const std::filesystem::path& file, const DfnCsvOptions& opt
     f.dip_deg = num("dip");
     f.dip_direction_deg = num("dip_direction");
     if (!(f.dip_deg >= 0 && f.dip_deg <= 90))
-      lines.fail("dip of disc " + f.id + " is " + std::string(v[*col("dip")]) + ", outside [0, 90]",
-                 "give the dip in degrees from the horizontal, 0 to 90");
+      lines.fail(
+          "dip of disc " + f.id + " is " + dfn_text::excerpt(v[*col("dip")]) + ", outside [0, 90]",
+          "give the dip in degrees from the horizontal, 0 to 90");
     if (!(f.dip_direction_deg >= 0 && f.dip_direction_deg < 360))
-      lines.fail("dip_direction of disc " + f.id + " is " + std::string(v[*col("dip_direction")]) +
-                     ", outside [0, 360)",
+      lines.fail("dip_direction of disc " + f.id + " is " +
+                     dfn_text::excerpt(v[*col("dip_direction")]) + ", outside [0, 360)",
                  "give the dip direction clockwise from North in [0, 360)");
     const double radius = num("radius");
     if (!(radius > 0))
-      lines.fail("radius of disc " + f.id + " is " + std::string(v[*col("radius")]) + ", not > 0",
-                 "give the disc's radius (the long semi-axis of an ellipse), > 0");
+      lines.fail(
+          "radius of disc " + f.id + " is " + dfn_text::excerpt(v[*col("radius")]) + ", not > 0",
+          "give the disc's radius (the long semi-axis of an ellipse), > 0");
     shape.sides = opt.sides;
     if (col("sides")) {
       const auto n = dfn_text::whole(v[*col("sides")]);
       if (!n || *n < 3 || *n > kMaxDiscSides)
-        lines.fail("sides of disc " + f.id + " is \"" + std::string(v[*col("sides")]) +
-                       "\", not a whole number from 3 to " + std::to_string(kMaxDiscSides),
+        lines.fail("sides of disc " + f.id + " is " + dfn_text::excerpt(v[*col("sides")]) +
+                       ", not a whole number from 3 to " + std::to_string(kMaxDiscSides),
                    "give the polygon's number of corners");
       shape.sides = *n;
     }
     shape.aspect = col("aspect") ? num("aspect") : 1.0;
     if (!(shape.aspect >= 1))
-      lines.fail("aspect of disc " + f.id + " is " + std::string(v[*col("aspect")]) + ", below 1",
-                 "give long / short diameter, >= 1 (radius is the long semi-axis)");
+      lines.fail(
+          "aspect of disc " + f.id + " is " + dfn_text::excerpt(v[*col("aspect")]) + ", below 1",
+          "give long / short diameter, >= 1 (radius is the long semi-axis)");
     const double rotation = col("rotation") ? num("rotation") : 0.0;
     f.polygon_uv = joint_polygon(shape, 2 * radius, rotation);
     if (col("set")) {
       const std::string name = unquoted(v[*col("set")]);
       if (name.empty())
         lines.fail("disc " + f.id + " has an empty set", "name its set, or leave the column out");
+      lines.check_name(name, "the set name of disc " + f.id + ",");
       const auto [it, added] = set_index.emplace(name, out.sets.size());
       if (added) out.sets.push_back(name);
       f.set = it->second;

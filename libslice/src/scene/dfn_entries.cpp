@@ -1,9 +1,11 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -15,6 +17,7 @@
 #include "slice/dfn.hpp"
 #include "slice/error.hpp"
 #include "slice/orientation.hpp"
+#include "slice/polytope.hpp"
 #include "slice/scene.hpp"
 
 // The [[dfn]] entries of a scene file (docs/scenes.md, docs/dfn.md): the fractures of a FAB or
@@ -93,24 +96,55 @@ JointSetSpec given_set(const std::string& name, const Joint& like) {
 // Convexity of a polygon in its plane: repeated corners and corners on the edge between their
 // neighbours (within tol) are dropped, as clipped fractures have them; what is left must be a
 // convex polygon winding once. Made counter-clockwise. "" or why not.
+// The corners are a ring of links: a dropped corner puts its two neighbours back in the queue,
+// so a fracture of 1,000,000 nodes takes linear time (erasing them from a vector one at a time
+// took 96 s: issue 42 item 11).
 std::string make_convex(std::vector<Vec2>& p, double tol) {
-  bool dropped = true;
-  while (dropped && p.size() >= 3) {
-    dropped = false;
-    for (std::size_t i = 0; i < p.size() && p.size() >= 3; ++i) {
-      const std::size_t n = p.size();
-      const Vec2 a = p[(i + n - 1) % n], b = p[i], c = p[(i + 1) % n];
-      const Vec2 e1 = b - a, e2 = c - b;
-      const double chord = (c - a).norm();
-      const bool repeated = e1.norm() <= tol;
-      const bool on_edge =
-          chord > tol && std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / chord <= tol;
-      if (repeated || on_edge) {
-        p.erase(p.begin() + static_cast<std::ptrdiff_t>(i));
-        dropped = true;
-      }
-    }
+  const std::size_t n0 = p.size();
+  std::vector<std::size_t> prev(n0), next(n0), queue(n0);
+  std::vector<char> alive(n0, 1), queued(n0, 1);
+  for (std::size_t i = 0; i < n0; ++i) {
+    prev[i] = (i + n0 - 1) % n0;
+    next[i] = (i + 1) % n0;
+    queue[i] = i;
   }
+  std::size_t left = n0;
+  for (std::size_t q = 0; q < queue.size() && left >= 3; ++q) {
+    const std::size_t i = queue[q];
+    queued[i] = 0;
+    if (!alive[i]) continue;
+    const Vec2 a = p[prev[i]], b = p[i], c = p[next[i]];
+    const Vec2 e1 = b - a, e2 = c - b;
+    const double chord = (c - a).norm();
+    const bool repeated = e1.norm() <= tol;
+    // On the edge from a to c: only when c is not a repeat of b (within tol), else b would be
+    // measured against its own repeat, and a dense outline (nodes closer than tol all along)
+    // would lose its corners one by one; c is dropped as b's repeat instead.
+    const bool on_edge = chord > tol && e2.norm() > tol &&
+                         std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / chord <= tol;
+    if (!repeated && !on_edge) continue;
+    alive[i] = 0;
+    --left;
+    next[prev[i]] = next[i];
+    prev[next[i]] = prev[i];
+    for (const std::size_t k : {prev[i], next[i]})
+      if (!queued[k]) {
+        queued[k] = 1;
+        queue.push_back(k);
+      }
+  }
+  std::vector<Vec2> kept;
+  if (left >= 3) {
+    const auto first =
+        static_cast<std::size_t>(std::find(alive.begin(), alive.end(), 1) - alive.begin());
+    kept.reserve(left);
+    std::size_t i = first;
+    do {
+      kept.push_back(p[i]);
+      i = next[i];
+    } while (i != first);
+  }
+  p = std::move(kept);
   if (p.size() < 3) return "has no area (its corners lie on one line)";
   const std::size_t n = p.size();
   double area2 = 0, turning = 0;
@@ -134,6 +168,12 @@ std::string make_convex(std::vector<Vec2>& p, double tol) {
 // frame, `ptol` that distance. "" or why not.
 std::string fit_plane(const std::vector<Vec3>& xs, double tol, double planarity, Joint& j,
                       double& ptol) {
+  // Nodes so far out that doubles there step by more than the tolerance (1e155 made a normal of
+  // NaN, refused only when written: issue 42 item 14) are refused here, by the file's line.
+  Vec3 lo = xs.front(), hi = xs.front();
+  for (const auto& x : xs) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  if (std::string why = precision_problem(lo, hi, tol, "a node"); !why.empty())
+    return "is too far out: " + why;
   Vec3 mean = Vec3::Zero();
   for (const auto& x : xs) mean += x;
   mean /= static_cast<double>(xs.size());
@@ -143,6 +183,8 @@ std::string fit_plane(const std::vector<Vec3>& xs, double tol, double planarity,
     cov += (x - mean) * (x - mean).transpose();
     radius = std::max(radius, (x - mean).norm());
   }
+  if (!cov.allFinite() || !std::isfinite(radius))
+    return "is too large: the squares of its nodes' distances from their mean overflow";
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
   const Vec3 best = es.eigenvectors().col(0);
   ptol = std::max(tol, planarity * radius);
@@ -187,6 +229,121 @@ std::vector<Vec2> convex_hull(std::vector<Vec2> p) {
   }
   h.resize(k > 1 ? k - 1 : k);
   return h;
+}
+
+// Whether two triangles' interiors overlap by more than `tol` (separating axes: convex shapes
+// are apart, or touch along an edge or at a corner, when their projections on the normal of one
+// of their edges overlap by tol at most; otherwise that least overlap is how deep they
+// interpenetrate). Orientation and degenerate (flat) triangles do not matter: a flat one has
+// no depth across its own edges.
+bool triangles_overlap(const std::array<Vec2, 3>& a, const std::array<Vec2, 3>& b, double tol) {
+  for (const auto* t : {&a, &b})
+    for (std::size_t e = 0; e < 3; ++e) {
+      const Vec2 d = (*t)[(e + 1) % 3] - (*t)[e];
+      const double len = d.norm();
+      if (!(len > 0)) continue;
+      const Vec2 axis(-d.y() / len, d.x() / len);
+      double lo_a = axis.dot(a[0]), hi_a = lo_a, lo_b = axis.dot(b[0]), hi_b = lo_b;
+      for (std::size_t k = 1; k < 3; ++k) {
+        lo_a = std::min(lo_a, axis.dot(a[k])), hi_a = std::max(hi_a, axis.dot(a[k]));
+        lo_b = std::min(lo_b, axis.dot(b[k])), hi_b = std::max(hi_b, axis.dot(b[k]));
+      }
+      if (std::min(hi_a, hi_b) - std::max(lo_a, lo_b) <= tol) return false;
+    }
+  return true;
+}
+
+// Two triangles (indices into tri) whose interiors overlap by more than `tol`, or nothing.
+// Candidates come from a uniform grid over the triangles' bounding boxes, about one cell per
+// triangle: a tiling has a few triangles per cell, so the check is about linear in their number.
+// A pair is tested in one cell only, the one holding the lower corner of the overlap of their
+// boxes. Triangles crowded into one cell (a fan of thousands of slivers about one node) cost
+// their number squared there; the first overlap found ends the search.
+std::optional<std::pair<std::size_t, std::size_t>> overlapping_triangles(
+    const std::vector<std::array<Vec2, 3>>& tri, double tol) {
+  // A triangle no wider than tol across its longest edge overlaps nothing by more than tol
+  // (its own depth along that edge's normal): left out, so that slivers and flat triangles
+  // spanning the whole fracture cannot crowd the grid.
+  std::vector<std::size_t> wide;
+  for (std::size_t i = 0; i < tri.size(); ++i) {
+    const auto& t = tri[i];
+    const double twice = std::abs(cross2(t[1] - t[0], t[2] - t[0]));
+    const double longest =
+        std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()});
+    if (twice > tol * longest) wide.push_back(i);
+  }
+  const std::size_t m = wide.size();
+  if (m < 2) return std::nullopt;
+  std::vector<Vec2> lo(m), hi(m);
+  Vec2 all_lo = tri[wide[0]][0], all_hi = all_lo;
+  for (std::size_t w = 0; w < m; ++w) {
+    const auto& t = tri[wide[w]];
+    lo[w] = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
+    hi[w] = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
+    all_lo = all_lo.cwiseMin(lo[w]), all_hi = all_hi.cwiseMax(hi[w]);
+  }
+  const Vec2 size = (all_hi - all_lo).cwiseMax(Vec2::Constant(1e-300));
+  // Cells about square, about m of them, at most 4096 a side.
+  const double cell = std::sqrt(size.x() * size.y() / static_cast<double>(m));
+  const auto cells = [&](double extent) {
+    const double c = cell > 0 ? std::ceil(extent / cell) : 1;
+    return static_cast<std::size_t>(std::clamp(std::isfinite(c) ? c : 1.0, 1.0, 4096.0));
+  };
+  std::size_t nx = cells(size.x()), ny = cells(size.y());
+  const auto at = [&](double v, double origin, double extent, std::size_t n) {
+    const double f = (v - origin) / extent * static_cast<double>(n);
+    return static_cast<std::size_t>(
+        std::clamp(std::isfinite(f) ? f : 0.0, 0.0, static_cast<double>(n - 1)));
+  };
+  const auto range = [&](std::size_t i) {
+    return std::array<std::size_t, 4>{
+        at(lo[i].x(), all_lo.x(), size.x(), nx), at(hi[i].x(), all_lo.x(), size.x(), nx),
+        at(lo[i].y(), all_lo.y(), size.y(), ny), at(hi[i].y(), all_lo.y(), size.y(), ny)};
+  };
+  // Boxes over many cells (long triangles) would fill memory: the grid is made coarser until
+  // the triangles take at most 16 cells each on average.
+  for (;;) {
+    double taken = 0;
+    for (std::size_t i = 0; i < m; ++i) {
+      const auto r = range(i);
+      taken += double(r[1] - r[0] + 1) * double(r[3] - r[2] + 1);
+    }
+    if (taken <= 16.0 * double(m) + double(1 << 20) || nx * ny == 1) break;
+    nx = (nx + 1) / 2, ny = (ny + 1) / 2;
+  }
+  // The cells' triangles, compressed rows: start[c] .. start[c + 1] in `in`.
+  std::vector<std::size_t> start(nx * ny + 1, 0);
+  for (std::size_t i = 0; i < m; ++i) {
+    const auto r = range(i);
+    for (std::size_t y = r[2]; y <= r[3]; ++y)
+      for (std::size_t x = r[0]; x <= r[1]; ++x) ++start[y * nx + x + 1];
+  }
+  for (std::size_t c = 0; c < nx * ny; ++c) start[c + 1] += start[c];
+  std::vector<std::size_t> in(start.back()), fill(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < m; ++i) {
+    const auto r = range(i);
+    for (std::size_t y = r[2]; y <= r[3]; ++y)
+      for (std::size_t x = r[0]; x <= r[1]; ++x) in[fill[y * nx + x]++] = i;
+  }
+  for (std::size_t y = 0; y < ny; ++y)
+    for (std::size_t x = 0; x < nx; ++x) {
+      const std::size_t c = y * nx + x;
+      for (std::size_t p = start[c]; p < start[c + 1]; ++p)
+        for (std::size_t q = p + 1; q < start[c + 1]; ++q) {
+          const std::size_t i = in[p], k = in[q];
+          // Boxes apart by more than tol: no overlap; the pair's own cell only.
+          if (lo[i].x() > hi[k].x() - tol || lo[k].x() > hi[i].x() - tol ||
+              lo[i].y() > hi[k].y() - tol || lo[k].y() > hi[i].y() - tol)
+            continue;
+          const Vec2 corner = lo[i].cwiseMax(lo[k]);
+          if (at(corner.x(), all_lo.x(), size.x(), nx) != x ||
+              at(corner.y(), all_lo.y(), size.y(), ny) != y)
+            continue;
+          if (triangles_overlap(tri[wide[i]], tri[wide[k]], tol))
+            return std::pair{wide[i], wide[k]};
+        }
+    }
+  return std::nullopt;
 }
 
 // The joint of a FAB tessellated fracture: planar as a polygon's nodes, its joint the convex
@@ -241,8 +398,23 @@ std::string tessellated_joint(const DfnFracture& f, double tol, double planarity
                std::to_string(twice->second) + " (they overlap)";
       continue;
     }
-    if (std::abs(sum_abs - hull) <= ptol * perimeter && sum_abs - std::abs(sum) <= ptol * perimeter)
-      return "";
+    if (std::abs(sum_abs - hull) <= ptol * perimeter &&
+        sum_abs - std::abs(sum) <= ptol * perimeter) {
+      // Areas that add up pass triangles that overlap where others leave a gap of the same area
+      // (issue 42 item 6): their interiors must not overlap, pairwise, in the fracture's plane.
+      std::vector<std::array<Vec2, 3>> tri;
+      tri.reserve(f.faces.size());
+      for (const auto& face : f.faces)
+        tri.push_back({uv[std::size_t(face[first] - 1)], uv[std::size_t(face[first + 1] - 1)],
+                       uv[std::size_t(face[first + 2] - 1)]});
+      const auto both = overlapping_triangles(tri, ptol);
+      if (!both) return "";
+      found += std::string(found.empty() ? "" : "; ") + "with node indices in values " +
+               (first == 1 ? "2-4" : "3-5") + " the triangles of its face lines " +
+               std::to_string(both->first + 1) + " and " + std::to_string(both->second + 1) +
+               " overlap";
+      continue;
+    }
     found += std::string(found.empty() ? "" : "; ") + "with node indices in values " +
              (first == 1 ? "2-4" : "3-5") + " its triangles cover " + fmt(sum_abs, 6) +
              " (turning both ways: " + fmt(sum_abs - std::abs(sum), 3) + ")";
@@ -304,7 +476,10 @@ DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, s
   if (cx.dimension == 2)
     r.fail(node, t.ctx + ": a DFN file holds 3-D fractures, and this is a 2-D scene",
            "give a 2-D scene's joints as [[joints]] segments or [[sets]]");
-  const std::filesystem::path given = to_text(r, node, t.label("file"));
+  const std::string file_text = to_text(r, node, t.label("file"));
+  if (file_text.find('\0') != std::string::npos)  // the system would read the path up to it
+    r.fail(node, t.label("file") + " holds a NUL character", "remove the \\u0000 from the path");
+  const std::filesystem::path given = file_text;
   DfnEntry d;
   d.file = given.is_absolute() ? given : cx.dir / given;
   const DfnFile dfn = read_file_of(cx, t, node, d.file);
@@ -354,7 +529,7 @@ DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, s
       bool finite = true;
       for (const Vec2& uv : j.polygon_uv) {
         finite = finite && uv.allFinite();
-        reach = std::max(reach, uv.norm());
+        reach = std::max(reach, uv.stableNorm());  // no overflow of the squares at 1e160
       }
       if (!finite || !(reach > cx.tol()))
         r.fail(node,
@@ -362,6 +537,16 @@ DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, s
                    fmt(reach, 3) + " from its centre, not a size between the tolerance " +
                    fmt(cx.tol(), 3) + " and a finite length",
                "check the radius and its unit against the domain's");
+      // A radius of 1e160 is finite, but its polygon's edges are not (issue 42 item 14): a disc
+      // so far out or so large that doubles step by more than the tolerance is refused here.
+      const Vec3 far = Vec3::Constant(reach);
+      if (const std::string why = precision_problem(f.centre - far, f.centre + far, cx.tol(),
+                                                    "the disc (its centre x, y, z and radius)");
+          !why.empty())
+        r.fail(node,
+               in_file + ":" + std::to_string(f.line) + ": disc " + f.id +
+                   " is too large or too far out: " + why,
+               "check its radius and centre, and their unit, against the domain's");
     } else if (const std::string why = f.tessellated
                                            ? tessellated_joint(f, cx.tol(), planarity, j)
                                            : polygon_joint(f.nodes, cx.tol(), planarity, j);
@@ -369,7 +554,9 @@ DfnEntry read_dfn(const Context& cx, const toml::table& tt, std::size_t index, s
       r.fail(node,
              in_file + ":" + std::to_string(f.line) + ": " +
                  (f.tessellated ? "tessellated fracture " : "fracture ") + f.id + " " + why,
-             f.tessellated && why.rfind("is not planar", 0) != 0
+             why.rfind("is too", 0) == 0
+                 ? "check the fracture's coordinates and their unit against the domain's"
+             : f.tessellated && why.rfind("is not planar", 0) != 0
                  ? "split it into convex polygons (the FRACTURE section), whose joints rockslice "
                    "cuts"
                  : "correct the fracture's nodes, or raise 'planarity' in " + t.ctx +
@@ -408,6 +595,8 @@ void assign_joint_sets(const Context& cx, const std::vector<const toml::table*>&
     if (!n) continue;
     const std::string label = quote_key("set") + " in [[joints]] #" + std::to_string(i + 1);
     const std::string name = to_text(r, *n, label);
+    if (name.find('\0') != std::string::npos)  // HDF5 strings end at a NUL
+      r.fail(*n, label + " holds a NUL character", "remove the \\u0000 from the set's name");
     Joint& j = scene.joints[i];
     auto it = std::find_if(scene.sets.begin(), scene.sets.end(),
                            [&](const JointSetSpec& s) { return s.name == name; });

@@ -19,6 +19,7 @@
 #include "slice/orientation.hpp"
 #include "slice/output.hpp"
 #include "slice/polytope.hpp"
+#include "slice/utf8.hpp"
 #include "slice/vertices.hpp"
 
 // FracMan FAB files (dfn.hpp): read for [[dfn]], written from a joint system.
@@ -79,10 +80,11 @@ class FabReader {
     while (lines_.next()) {
       const std::string head = upper(lines_.text());
       if (head.rfind("BEGIN", 0) != 0)
-        lines_.fail("expected a section, BEGIN FORMAT, BEGIN FRACTURE, ..., not \"" +
-                        std::string(lines_.text()) + "\"",
+        lines_.fail("expected a section, BEGIN FORMAT, BEGIN FRACTURE, ..., not " +
+                        dfn_text::excerpt(lines_.text()),
                     kFabFix);
       const std::string name(dfn_text::trim(std::string_view(head).substr(5)));
+      lines_.check_name(name, "the section name");
       if (!seen_.insert({name, lines_.number()}).second)
         lines_.fail("a second " + name + " section (the first begins on line " +
                         std::to_string(seen_[name]) + ")",
@@ -100,7 +102,7 @@ class FabReader {
       else if (name == "ROCKBLOCK")
         read_empty(name);
       else
-        lines_.fail("unknown section BEGIN " + name,
+        lines_.fail("unknown section BEGIN " + dfn_text::excerpt(name),
                     "a FAB file has the sections FORMAT, PROPERTIES, SETS, FRACTURE, "
                     "TESSFRACTURE and ROCKBLOCK");
     }
@@ -130,7 +132,7 @@ class FabReader {
   std::pair<std::string, std::string> entry(const std::string& section_name) {
     auto kv = key_value(lines_.text());
     if (!kv)
-      lines_.fail("\"" + std::string(lines_.text()) + "\" in " + section_name +
+      lines_.fail(dfn_text::excerpt(lines_.text()) + " in " + section_name +
                       " is not of the form key = value",
                   kFabFix);
     return std::move(*kv);
@@ -139,7 +141,8 @@ class FabReader {
   std::int64_t count(const std::string& key, const std::string& value) {
     const auto v = dfn_text::whole(value);
     if (!v || *v < 0)
-      lines_.fail(key + " = " + value + " is not a count (a whole number >= 0)", kFabFix);
+      lines_.fail(key + " = " + dfn_text::excerpt(value) + " is not a count (a whole number >= 0)",
+                  kFabFix);
     return *v;
   }
 
@@ -149,10 +152,11 @@ class FabReader {
       const auto [key, value] = entry("FORMAT");
       const std::string k = upper(key);
       if (k == "FORMAT" && upper(unquote(value)) != "ASCII")
-        lines_.fail("Format = " + value + ": only ASCII FAB files are read",
+        lines_.fail("Format = " + dfn_text::excerpt(value) + ": only ASCII FAB files are read",
                     "export the DFN from FracMan with Format = Ascii");
       if (k == "XAXIS" && upper(unquote(value)) != "EAST")
-        lines_.fail("XAxis = " + value + ": rockslice's x axis is East (docs/scenes.md, Frame)",
+        lines_.fail("XAxis = " + dfn_text::excerpt(value) +
+                        ": rockslice's x axis is East (docs/scenes.md, Frame)",
                     "export the DFN with XAxis = East");
       if (k == "NO_FRACTURES") format_.fractures = count(key, value);
       if (k == "NO_NODES") format_.nodes = count(key, value);
@@ -165,7 +169,8 @@ class FabReader {
     section("PROPERTIES", [&] {
       const auto [key, value] = entry("PROPERTIES");
       if (!numbered(key, "Prop"))
-        lines_.fail("\"" + key + "\" in PROPERTIES is not PropK", "name them Prop1, Prop2, ...");
+        lines_.fail(dfn_text::excerpt(key) + " in PROPERTIES is not PropK",
+                    "name them Prop1, Prop2, ...");
       ++declared_properties_;
       properties_line_ = lines_.number();
     });
@@ -177,13 +182,16 @@ class FabReader {
       const auto [key, value] = entry("SETS");
       const auto id = numbered(key, "Set");
       if (!id)
-        lines_.fail("\"" + key + "\" in SETS is not SetK (K the set id the fractures give)",
-                    "name the sets Set1, Set2, ...");
+        lines_.fail(
+            dfn_text::excerpt(key) + " in SETS is not SetK (K the set id the fractures give)",
+            "name the sets Set1, Set2, ...");
       if (set_index_.count(*id))
         lines_.fail("set id " + std::to_string(*id) + " is declared twice in SETS",
                     "declare each set once");
       const std::string name = unquote(value);
-      if (name.empty()) lines_.fail(key + " has no name", "give it one: " + key + " = \"J1\"");
+      if (name.empty())
+        lines_.fail(dfn_text::excerpt(key) + " has no name", "give it one: " + key + " = \"J1\"");
+      lines_.check_name(name, "the name of " + key);
       set_index_[*id] = out_.sets.size();
       out_.sets.push_back(name);
     });
@@ -198,9 +206,15 @@ class FabReader {
                       ", which SETS (line " + std::to_string(sets_line_) + ") does not declare",
                   "declare it there (Set" + std::to_string(id) +
                       " = \"name\") or correct the fracture's set id");
-    // A file that declares no set (PorePy writes none): each set id is a set of its own.
+    // A file that declares no set (PorePy writes none): each set id is a set of its own, named
+    // after the file.
     set_index_[id] = out_.sets.size();
     out_.sets.push_back(stem_ + " set " + std::to_string(id));
+    if (const std::string why = dfn_text::name_problem(stem_); !why.empty())
+      lines_.fail("fracture " + fracture + " is in set " + std::to_string(id) +
+                      ", which SETS does not name, so the set takes the file's name, which " + why,
+                  "name the sets in a SETS section (Set" + std::to_string(id) +
+                      " = \"name\"), or rename the file in UTF-8");
     return out_.sets.size() - 1;
   }
 
@@ -219,7 +233,7 @@ class FabReader {
   std::string fracture_id(std::string_view field) {
     std::string id(field);
     if (!dfn_text::whole(field))
-      lines_.fail("fracture id \"" + id + "\" is not a whole number", kFabFix);
+      lines_.fail("fracture id " + dfn_text::excerpt(id) + " is not a whole number", kFabFix);
     return id;
   }
 
@@ -229,7 +243,7 @@ class FabReader {
                           std::int64_t least, std::uint64_t bytes) {
     const auto n = dfn_text::whole(field);
     if (!n || *n < least)
-      lines_.fail("fracture " + id + " has " + what + " count " + std::string(field) +
+      lines_.fail("fracture " + id + " has " + what + " count " + dfn_text::excerpt(field) +
                       "; it needs a whole number >= " + std::to_string(least),
                   kFabFix);
     if (std::uint64_t(*n) > lines_.bytes_left() / bytes)
@@ -245,7 +259,7 @@ class FabReader {
     const auto set = dfn_text::whole(field);
     if (!set)
       lines_.fail(
-          "fracture " + id + ": set id \"" + std::string(field) + "\" is not a whole number",
+          "fracture " + id + ": set id " + dfn_text::excerpt(field) + " is not a whole number",
           kFabFix);
     return set_of(*set, id);
   }
@@ -305,8 +319,8 @@ class FabReader {
       lines_.fail_at_end("the file ends before " + what, "check that the file is complete");
     const auto v = lines_.fields();
     if (v.size() != 4 || lines_.number_at(v[0], what) != 0)
-      lines_.fail(what + " is \"" + std::string(lines_.text()) +
-                      "\"; expected \"0 nx ny nz\" after the fracture's " + std::to_string(n) +
+      lines_.fail(what + " is " + dfn_text::excerpt(lines_.text()) +
+                      "; expected \"0 nx ny nz\" after the fracture's " + std::to_string(n) +
                       " nodes",
                   "correct the fracture's node count, or add the normal line");
     for (std::size_t k = 1; k < 4; ++k) lines_.number_at(v[k], what);
@@ -344,7 +358,8 @@ class FabReader {
         if (c >= 5) continue;
         const auto w = dfn_text::whole(v[c]);
         if (!w)
-          lines_.fail("value " + std::to_string(c + 1) + " of " + what + ", " + std::string(v[c]) +
+          lines_.fail("value " + std::to_string(c + 1) + " of " + what + ", " +
+                          dfn_text::excerpt(v[c]) +
                           ", is not a whole number (a face's first five values are its number "
                           "and node indices)",
                       "correct the face line or the fracture's face count");
@@ -422,6 +437,37 @@ std::string exact(double x) {
   return buf;
 }
 
+// How a set's name is written after "SetK = " so that the reader above gives it back as it is
+// (key_value, unquote): between double quotes; bare if it holds one double quote (the reader
+// takes the text between the last two quotes, else the whole value). "" and `why` if it cannot
+// be written: two double quotes, a control character or a line end (the reader's lines end at
+// LF and CR), bytes that are no UTF-8 (which the reader refuses).
+std::string fab_set_value(const std::string& name, std::string& why) {
+  if (name.empty()) {
+    why = "is empty (the reader refuses a set without a name)";
+    return "";
+  }
+  for (std::size_t i = 0; i < name.size();) {
+    const auto [c, len] = decode_utf8(name, i);
+    if (len == 0) {
+      why = "is not UTF-8 text";
+      return "";
+    }
+    if (c < 0x20 || c == 0x7f) {
+      why = "holds a control character";
+      return "";
+    }
+    i += len;
+  }
+  for (const std::string& value : {'"' + name + '"', name})
+    if (const auto kv = key_value("Set1 = " + value); kv && unquote(kv->second) == name)
+      return value;
+  why = std::count(name.begin(), name.end(), '"') > 1
+            ? "holds two double quotes (FAB writes a name between two, and has no escape)"
+            : "begins or ends with a space and holds a double quote";
+  return "";
+}
+
 }  // namespace
 
 DfnFile read_fab(const std::filesystem::path& file) {
@@ -429,8 +475,9 @@ DfnFile read_fab(const std::filesystem::path& file) {
 }
 
 FabStats write_fab(const std::filesystem::path& out, const JointSystem& js) {
-  if (js.dimension != 3)
-    throw Error(out.string(), "a 2-D section's joints are lines, and FAB holds 3-D polygons",
+  if (js.dimension != 3)  // slice-export names its input first: the input is 2-D, not `out`
+    throw Error(out.string(),
+                "not written: the joints are a 2-D section's (lines), and FAB holds 3-D polygons",
                 "export the 3-D scene's joints");
   FabStats st;
   const PolytopeInfo dom =
@@ -472,10 +519,15 @@ FabStats write_fab(const std::filesystem::path& out, const JointSystem& js) {
   s += "    No_TessFractures = 0\n    No_Nodes = " + std::to_string(st.nodes) + "\n";
   s += "    No_Properties = 0\nEND FORMAT\n\nBEGIN PROPERTIES\nEND PROPERTIES\n\nBEGIN SETS\n";
   for (std::size_t k = 0; k < names.size(); ++k) {
-    std::string name = names[k];
-    std::replace(name.begin(), name.end(), '"', '\'');  // a name cannot hold its quotes
-    std::replace(name.begin(), name.end(), '\n', ' ');
-    s += "    Set" + std::to_string(k + 1) + " = \"" + name + "\"\n";
+    // Written as it reads back (slice-joints keeps it), or refused: never another name.
+    std::string why;
+    const std::string value = fab_set_value(names[k], why);
+    if (value.empty())
+      throw Error(out.string(),
+                  "not written: the name of set " + std::to_string(k + 1) + ", \"" + names[k] +
+                      "\", " + why + ", so the FAB file could not give it back",
+                  "rename the set (name of its [[sets]] entry) and run slice-joints again");
+    s += "    Set" + std::to_string(k + 1) + " = " + value + "\n";
   }
   s += "END SETS\n\nBEGIN FRACTURE\n";
   for (std::size_t f = 0; f < polys.size(); ++f) {

@@ -21,6 +21,7 @@
 #include "slice/orientation.hpp"
 #include "slice/polytope.hpp"
 #include "slice/stochastic.hpp"
+#include "slice/utf8.hpp"
 
 namespace slice {
 
@@ -231,6 +232,12 @@ EntryPlace read_place(const Reader& r, const toml::table& t, const std::string& 
 
 namespace {
 
+// Whether [scene] gives a name (else the scene is named after its file).
+bool st_has_name(const toml::table& root) {
+  const toml::node* st = root.get("scene");
+  return st != nullptr && st->is_table() && st->as_table()->get("name") != nullptr;
+}
+
 Region read_region(const Tbl& t, int dimension) {
   t.check_keys(kRegionKeys);
   return region_of(t, dimension);
@@ -240,7 +247,11 @@ Region read_region(const Tbl& t, int dimension) {
 void read_scene_table(const Reader& r, const toml::table& st, Scene& scene) {
   const Tbl t{r, st, "[scene]"};
   t.check_keys(kSceneKeys);
-  if (const toml::node* n = t.find("name")) scene.name = to_text(r, *n, t.label("name"));
+  if (const toml::node* n = t.find("name")) {
+    scene.name = to_text(r, *n, t.label("name"));
+    if (scene.name.find('\0') != std::string::npos)  // HDF5 strings end at a NUL
+      r.fail(*n, t.label("name") + " holds a NUL character", "remove the \\u0000 from the name");
+  }
   if (const toml::node* n = t.find("seed")) {
     const auto* i = n->as_integer();
     if (!i)
@@ -510,6 +521,18 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
   scene.source = name;
   scene.name = name.stem().string();
   if (const toml::table* st = single("scene")) read_scene_table(r, *st, scene);
+  // The outputs keep the name as UTF-8 text (HDF5 strings, Python str): a file name in Latin-1
+  // made files that slice-info and Python could not read (issue 42 item 5).
+  if (!st_has_name(root))
+    for (std::size_t i = 0; i < scene.name.size();) {
+      const auto [c, len] = decode_utf8(scene.name, i);
+      if (len == 0)
+        r.fail(root,
+               "the scene's name is its file name's stem, which is not UTF-8 text (its byte " +
+                   std::to_string(i + 1) + " begins no UTF-8 character)",
+               "rename the file in UTF-8, or give the name in the scene: [scene] name = \"...\"");
+      i += len;
+    }
 
   // Domain first: every tolerance below scales with its size.
   const toml::table* dt = single("domain");
@@ -538,6 +561,10 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
   for (std::size_t i = 0; i < sets.size(); ++i) {
     SectionTrace trace;
     scene.sets.push_back(read_set(cx, *sets[i], i, names, &trace));
+    if (scene.sets.back().name.find('\0') != std::string::npos)  // HDF5 strings end at a NUL
+      r.fail(*sets[i]->get("name"),
+             "'name' in [[sets]] #" + std::to_string(i + 1) + " holds a NUL character",
+             "remove the \\u0000 from the set's name");
     if (cx.section) scene.set_traces.push_back(trace);
     scene.set_places.push_back(read_place(r, *sets[i],
                                           "[[sets]] \"" + scene.sets.back().name + "\"",

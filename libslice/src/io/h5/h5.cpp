@@ -69,8 +69,9 @@ std::string reason() {
 // A write the system refused since the file was created (write_driver.hpp): HDF5 was told it went
 // well, so the call that made it (or a later one, where HDF5 wrote from its caches) succeeded.
 void check_written(const Context& ctx, const std::string& what) {
-  if (ctx.written && ctx.written->error != 0)
-    throw Error(ctx.file, what + " (" + std::strerror(ctx.written->error) + ")", ctx.fix);
+  if (ctx.written && ctx.written->error != 0)  // the fix for that reason: ulimit -f, a full disk
+    throw Error(ctx.file, what + " (" + std::strerror(ctx.written->error) + ")",
+                write_error_fix(ctx.written->error) + "; nothing was written");
 }
 
 // Checks the result of an H5* call: ids and herr_t/htri_t are negative on failure.
