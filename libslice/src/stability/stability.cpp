@@ -335,6 +335,12 @@ bool fails(const BodyAnswer& a, double target) {
          a.s.fos < target;
 }
 
+/// Sorts v and drops its repeats.
+void sorted_unique(std::vector<std::size_t>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
 /// A group of bodies that fails as one, and its answer.
 struct GroupAnswer {
   std::vector<std::size_t> members;  // sorted
@@ -363,8 +369,7 @@ std::optional<GroupAnswer> find_group(const Bodies& bodies, std::size_t seed,
         if (bodies.fixed[o] || failed[o] >= 0 || contains(group, o)) continue;
         if (outward(rows, en).dot(freed.s.direction) > kAngleTol) in_way.push_back(o);
       }
-    std::sort(in_way.begin(), in_way.end());
-    in_way.erase(std::unique(in_way.begin(), in_way.end()), in_way.end());
+    sorted_unique(in_way);
     if (in_way.empty() || group.size() + in_way.size() > opt.max_group) return std::nullopt;
     group.insert(group.end(), in_way.begin(), in_way.end());
     std::sort(group.begin(), group.end());
@@ -462,10 +467,6 @@ StabilityData analyse_stability(const BlockSystem& bs, const StabilityOptions& o
       if (o >= 0 && failed[std::size_t(o)] < 0 && !bodies.fixed[std::size_t(o)])
         visit(std::size_t(o));
     }
-  };
-  const auto sorted_unique = [](std::vector<std::size_t>& v) {
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
   };
   std::size_t groups = 0;
   int round = 0;
