@@ -178,7 +178,7 @@ py::dict sets_of(const Model& m) {
   py::dict d;
   py::list names, intensity, kind;
   for (const auto& s : sets) {
-    names.append(s.name);
+    names.append(text(s.name));
     intensity.append(slice::to_string(s.intensity));
     kind.append(slice::to_string(s.kind));
   }
@@ -301,7 +301,7 @@ vertices). The names are those of the HDF5 datasets (docs/python.md).)");
   c.def_property_readonly(
       "stage", [](const Model& s) { return to_string(s.stage); },
       "'joints', 'blocks' (not pruned), 'pruned' or 'geometry'");
-  c.def_property_readonly("name", [](const Model& s) { return s.bs->joints.name; });
+  c.def_property_readonly("name", [](const Model& s) { return text(s.bs->joints.name); });
   c.def_property_readonly("seed", [](const Model& s) { return s.bs->joints.seed; });
   c.def_property_readonly("dimension", [](const Model& s) { return s.bs->joints.dimension; });
   c.def_property_readonly("length_scale", [](const Model& s) { return s.bs->joints.length_scale; });
@@ -309,19 +309,19 @@ vertices). The names are those of the HDF5 datasets (docs/python.md).)");
   c.def_property_readonly("provenance", [](const Model& s) {
     const auto& p = s.provenance;
     py::dict d;
-    d["tool"] = p.tool;
-    d["version"] = p.version;
-    d["command_line"] = p.command_line;
-    d["input"] = p.input;
-    d["input_sha256"] = p.input_sha256;
+    d["tool"] = text(p.tool);
+    d["version"] = text(p.version);
+    d["command_line"] = text(p.command_line);
+    d["input"] = text(p.input);
+    d["input_sha256"] = text(p.input_sha256);
     return d;
   });
   c.def(
       "__len__", [](const Model& s) { return s.bs->blocks.size(); }, "the number of blocks");
   c.def("__repr__", [](const Model& s) {
-    return "<rockslice.Model '" + s.bs->joints.name + "': " + to_string(s.stage) + ", " +
-           std::to_string(s.bs->joints.joints.size()) + " joints, " +
-           std::to_string(s.bs->blocks.size()) + " blocks>";
+    return text("<rockslice.Model '" + s.bs->joints.name + "': " + to_string(s.stage) + ", " +
+                std::to_string(s.bs->joints.joints.size()) + " joints, " +
+                std::to_string(s.bs->blocks.size()) + " blocks>");
   });
 
   // Blocks: views of the block array.

@@ -389,3 +389,38 @@ TEST_CASE("a file size limit: every writer says File too large and to raise ulim
   check_refused(r, "slice-info", {"stdout", "File too large", "ulimit -f"});
   CHECK_THAT(r.err, !Catch::Contains("make room on the disk"));
 }
+
+TEST_CASE(
+    "an output that is a link into a missing folder is refused before any input is read, as a "
+    "path in a missing folder is",
+    "[robustness][tools][outputs][output-kinds]") {
+  // The first check of every output looked at the folder of the link, not of the file it
+  // leads to: a link into a missing folder passed it and the run failed only when it wrote,
+  // after all the work. Each writer here gets an input that does not exist, so a refusal that
+  // names the output (and not the input) shows the output was checked first.
+  const Inputs& in = inputs();
+  test::TempDir tmp;
+  int n = 0;
+  for (const Writer& w : writers(in, tmp / "aux")) {
+    for (const bool link : {false, true}) {
+      const path dir = tmp / std::to_string(n++);
+      fs::create_directories(dir);
+      fs::create_directories(tmp / "aux");
+      std::string out = (dir / "nowhere" / w.name).string();
+      if (link) {
+        fs::create_symlink("nowhere/" + w.name, dir / w.name);
+        out = (dir / w.name).string();
+      }
+      std::vector<std::string> args = w.before;
+      args.front() = (dir / "no-input.h5").string();
+      args.insert(args.end(), {w.option, out});
+      args.insert(args.end(), w.after.begin(), w.after.end());
+      INFO(w.tool << " ... " << w.option << " " << out);
+      const auto r = run_tool(w.tool, args);
+      check_refused(r, w.tool, {out, (dir / "nowhere").string() + " does not exist"});
+      CHECK_THAT(r.err, !Catch::Contains("no-input"));
+      CHECK(fs::is_empty(tmp / "aux"));
+      fs::remove_all(tmp / "aux");
+    }
+  }
+}

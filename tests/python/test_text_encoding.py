@@ -2,9 +2,15 @@
 # UnicodeDecodeError, or made a model that Python could not read back. Now the reader refuses
 # the name where it reads it: rockslice.Error naming the file and its line, in one line that
 # is itself UTF-8 (the byte is quoted as \xe9).
+import os
+import subprocess
+
+import h5py
+import numpy as np
 import pytest
 
 import rockslice
+from conftest import TOOLS
 
 HEAD = b'''[scene]
 name = "text"
@@ -38,3 +44,27 @@ def test_utf8_set_names_are_read(tmp_path):
     out = tmp_path / 'j.h5'
     rockslice.joints(str(scene)).save(str(out))
     rockslice.load(str(out))  # read back: the name is UTF-8 text
+
+
+def test_text_of_a_file_that_is_no_utf8_reads_with_escapes(tmp_path):
+    # A scene whose file name is Latin-1 (its [scene] name given, so the tools accept it): the
+    # provenance's input path keeps the file name's bytes. Model.provenance raised
+    # UnicodeDecodeError; a name and set names written by another program (h5py here) as bytes
+    # that are no UTF-8 did too. Now each reads as text, the bad bytes as \xNN escapes.
+    scene = os.path.join(os.fsencode(tmp_path), b'sc\xe8ne.toml')
+    with open(scene, 'wb') as f:
+        f.write(b'[scene]\nname = "text"\n[domain]\nbox = { min = [0, 0, 0], max = [10, 10, 10] }\n'
+                b'[[joints]]\ndip = 0\ndip_direction = 0\npoint = [5, 5, 5]\n')
+    out = tmp_path / 'j.h5'
+    r = subprocess.run([os.path.join(TOOLS, 'slice-joints'), scene, b'-o', os.fsencode(out), b'-q'],
+                       capture_output=True)
+    assert r.returncode == 0, r.stderr
+    model = rockslice.load(str(out))
+    assert model.provenance['input'].endswith('sc\\xe8ne.toml')
+    assert 'sc\\xe8ne.toml' in model.provenance['command_line']
+    assert len(model.provenance['input_sha256']) == 64
+    with h5py.File(out, 'r+') as f:
+        f.attrs.modify('name', np.bytes_(b'r\xf6ck'))
+    model = rockslice.load(str(out))
+    assert model.name == 'r\\xf6ck'
+    assert "'r\\xf6ck'" in repr(model)

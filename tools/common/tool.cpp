@@ -374,20 +374,7 @@ void check_distinct_paths(const std::vector<PathArg>& paths) {
     if (p.path.empty() || !p.output) continue;
     // Every output's place is checked before any is written: a tool with two outputs must not
     // write the first and then fail on the second.
-    const fs::path path(p.path);
-    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec))
-      throw slice::Error(p.path, "the directory " + dir.string() + " does not exist",
-                         "create it or give " + p.option + " another path; nothing was written");
-    if (fs::is_directory(path, ec))
-      throw slice::Error(p.path, "is a directory",
-                         "give " + p.option + " a file name; nothing was written");
-    // Renamed onto, a FIFO, a device (/dev/null) or /dev/stdout would be replaced.
-    if (const std::string what = slice::not_a_regular_file(path); !what.empty())
-      throw slice::Error(
-          p.path, what,
-          "give " + p.option + " the path of a regular file (or of none yet); nothing was written");
+    slice::check_output_place(p.path, p.option);
   }
   for (std::size_t i = 0; i < paths.size(); ++i) {
     for (std::size_t k = i + 1; k < paths.size(); ++k) {

@@ -64,6 +64,13 @@ void discard_held_outputs() noexcept;
 /// the tools, which check every output before writing any.
 std::string not_a_regular_file(const std::filesystem::path& out);
 
+/// Throws Error unless `out` can be an output: the directory of the file it is written to (where
+/// its symbolic links lead, so a link into a missing folder is refused here, not after the work)
+/// exists, and `out` is no directory and nothing else not_a_regular_file names. `option` ("-o",
+/// "--joints") names the option in the advice of a tool's line; empty for the library's own.
+/// PartialFile checks this first; the tools check every output before they write any.
+void check_output_place(const std::filesystem::path& out, const std::string& option = "");
+
 /// Deletes every .partial of a PartialFile alive in this process. Async-signal-safe (only
 /// atomic loads and unlink(2)): for a SIGINT / SIGTERM handler, which then re-raises the signal.
 void remove_partial_files() noexcept;

@@ -175,23 +175,31 @@ fs::path written_file(const fs::path& out) {
 
 }  // namespace
 
-PartialFile::PartialFile(fs::path out) : out_(std::move(out)) {
-  if (out_.empty())  // not a name: the rename of ".partial" onto it would be the first to fail
+void check_output_place(const fs::path& out, const std::string& option) {
+  if (out.empty())  // not a name: the rename of ".partial" onto it would be the first to fail
     throw Error("the output path", "is empty", "give the name of the file to write");
+  const fs::path file = written_file(out);
+  const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  const std::string give = option.empty() ? "give the output " : "give " + option + " ";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw Error(out.string(), "the directory " + dir.string() + " does not exist",
+                "create it or " + give + "another path; nothing was written");
+  if (fs::is_directory(out, ec))
+    throw Error(out.string(), "is a directory", give + "a file name; nothing was written");
+  // Renamed onto, a FIFO, a device (/dev/null) or /dev/stdout would be replaced: refused,
+  // untouched.
+  if (const std::string what = not_a_regular_file(out); !what.empty())
+    throw Error(out.string(), what,
+                give + "the path of a regular file (or of none yet); nothing was written");
+}
+
+PartialFile::PartialFile(fs::path out) : out_(std::move(out)) {
+  check_output_place(out_);
   file_ = written_file(out_);
   partial_ = file_.string() + ".partial";
   const fs::path dir = file_.has_parent_path() ? file_.parent_path() : fs::path(".");
   std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw Error(out_.string(), "the directory " + dir.string() + " does not exist",
-                "create it or choose another output path");
-  if (fs::is_directory(out_, ec))
-    throw Error(out_.string(), "is a directory", "give a file name for the output");
-  // Renamed onto, a FIFO or a device would be replaced by a regular file: refused, untouched.
-  if (const std::string what = not_a_regular_file(out_); !what.empty())
-    throw Error(out_.string(), what,
-                "give the path of a regular file (or of none yet) for the output; nothing was "
-                "written");
   // Create the .partial locked. A .partial already there is another live run's while that run
   // holds its lock; otherwise it is stale (a run killed by SIGKILL or a power cut) and is
   // replaced. A symlink there is removed, never followed. Another run may do the same at the
