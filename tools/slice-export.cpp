@@ -124,9 +124,7 @@ int main(int argc, char** argv) {
       return;
     }
     const slice::BlockSystem bs = slice::read_blocks(in);
-    if (!bs.geometry)
-      throw slice::Error(in, "the blocks have no vertices (no /geometry)",
-                         "run slice-vertices on it first");
+    slice::geometry_of(bs, in);
     if (bs.joints.dimension == 2 && format == "3dec")  // the input is 2-D, not the output
       throw slice::Error(in, "is a 2-D section (dimension 2): the 3DEC export is 3-D only",
                          "export it with --format yade (Polyhedra prisms) or --format vtu");

@@ -57,9 +57,7 @@ int main(int argc, char** argv) {
     if (!free_faces.empty()) opt.free_faces = slice::parse_free_faces(free_faces);
     slice::check_stability_options(opt);
     slice::BlockSystem bs = slice::read_blocks(in);
-    if (!bs.geometry)
-      throw slice::Error(in, "the blocks have no vertices (no /geometry)",
-                         "run slice-vertices on it first");
+    slice::geometry_of(bs, in);
     if (bs.joints.dimension != 3)
       throw slice::Error(in, "is a 2-D section (dimension 2): slice-stability analyses 3-D models",
                          "slice the scene in 3-D");

@@ -62,6 +62,12 @@ struct BlockSystem {
   std::optional<StabilityData> stability;
 };
 
+/// The blocks' geometry, or Error(where, "the blocks have no vertices (no /geometry)", "run
+/// slice-vertices on the blocks file first"): for every stage that needs vertices (the exports,
+/// contacts, stability, sub-models). `where` names the file (the input, or the output not
+/// written), or "/geometry" where the caller has no file.
+const Geometry& geometry_of(const BlockSystem& bs, const std::string& where);
+
 /// How files are written. compress: every dataset chunked, shuffled and deflated (HDF5's
 /// built-in filters, which h5py and h5dump read); about 2-3x smaller, slower to write.
 struct WriteOptions {

@@ -173,9 +173,7 @@ void joint_contacts(const BlockSystem& bs, std::span<const JointFace> faces, dou
 }  // namespace
 
 void for_each_contact(const BlockSystem& bs, ContactScope scope, const ContactVisitor& visit) {
-  if (!bs.geometry)
-    throw Error("/geometry", "the blocks have no vertices, volumes or face areas",
-                "run slice-vertices on the blocks file first");
+  geometry_of(bs, "/geometry");
   const JointSystem& js = bs.joints;
   const double tol = js.options.tolerance * js.length_scale;
   std::vector<JointFace> faces;

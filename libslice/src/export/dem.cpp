@@ -7,19 +7,8 @@
 
 namespace slice {
 
-namespace {
-
-const Geometry& geometry_of(const BlockSystem& bs) {
-  if (!bs.geometry)
-    throw Error("/geometry", "the blocks have no vertices, volumes or face areas",
-                "run slice-vertices on the blocks file first");
-  return *bs.geometry;
-}
-
-}  // namespace
-
 DemBodies dem_bodies(const BlockSystem& bs) {
-  const Geometry& g = geometry_of(bs);
+  const Geometry& g = geometry_of(bs, "/geometry");
   struct Cluster {
     std::size_t members = 0, first = 0;
     double volume = 0;
@@ -77,7 +66,7 @@ double yade_timestep(const DemBodies& bodies, double density, double young, doub
 }
 
 std::vector<double> realised_p32(const BlockSystem& bs) {
-  const Geometry& g = geometry_of(bs);
+  const Geometry& g = geometry_of(bs, "/geometry");
   const auto& joints = bs.joints.joints;
   std::vector<double> area(bs.joints.sets.size() + 1, 0.0);
   double volume = 0;

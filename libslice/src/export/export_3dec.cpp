@@ -387,9 +387,7 @@ ThreeDecStats write_3dec(const std::filesystem::path& grid, const std::filesyste
   if (bs.joints.dimension == 2)
     throw Error(grid.string(), "not written: the blocks are a 2-D section, the export is 3-D only",
                 "export it with --format yade (Polyhedra prisms) or --format vtu");
-  if (!bs.geometry)
-    throw Error(grid.string(), "the blocks have no vertices (no /geometry)",
-                "run slice-vertices on the blocks file first");
+  geometry_of(bs, grid.string());
   const bool same_dir = std::filesystem::absolute(grid).parent_path() ==
                         std::filesystem::absolute(commands).parent_path();
   const std::string grid_name =
@@ -416,10 +414,7 @@ UdecStats write_udec(const std::filesystem::path& out, const BlockSystem& bs) {
     throw Error(out.string(),
                 "not written: the blocks are 3-D, the UDEC export is for 2-D sections",
                 "export a 3-D model with --format 3dec, or slice a section (dimension = 2)");
-  if (!bs.geometry)
-    throw Error(out.string(), "the blocks have no vertices (no /geometry)",
-                "run slice-vertices on the blocks file first");
-  const Geometry& g = *bs.geometry;
+  const Geometry& g = geometry_of(bs, out.string());
   UdecStats st;
   TextOut f(out);
   std::string& s = f.buf();

@@ -23,9 +23,6 @@
 namespace slice {
 namespace {
 
-// The refusal of a blocks file without /geometry (slice-export's, for every format) and its fix.
-constexpr const char* kNoGeometry = "the blocks have no vertices (no /geometry)";
-constexpr const char* kNoGeometryFix = "run slice-vertices on it first";
 constexpr std::uint8_t kVtkLine = 3, kVtkPolygon = 7, kVtkPolyhedron = 42;  // VTK's cell types
 constexpr std::size_t kChunkBytes = 1 << 20;  // values gathered before they go to the file
 
@@ -346,9 +343,7 @@ class FileSource {
 
 VtuStats write_blocks_vtu(const std::filesystem::path& out, const BlockSystem& bs,
                           VtuCompressor compressor, int threads, VtuIds ids) {
-  if (!bs.geometry)
-    throw Error(out.string(), kNoGeometry, "run slice-vertices on the blocks file first");
-  const Geometry& g = *bs.geometry;
+  const Geometry& g = geometry_of(bs, out.string());
   Range points2;
   add_points(points2, bs.blocks, g);
   MemorySource src(g);
@@ -371,7 +366,7 @@ VtuStats export_blocks_vtu(const std::filesystem::path& in, const std::filesyste
     // tolerance) and the export goes on from memory.
     const BlockSystem bs = read_blocks(in);
     if (joints) *joints = bs.joints;
-    if (!bs.geometry) throw Error(in.string(), kNoGeometry, kNoGeometryFix);
+    geometry_of(bs, in.string());
     return write_blocks_vtu(out, bs, compressor, threads, ids);
   }
   if (joints) *joints = stream->blocks().joints;

@@ -187,10 +187,7 @@ double block_friction_deg(const BlockSystem& bs, std::size_t b, double default_f
 YadeStats write_yade_script(const std::filesystem::path& out, const BlockSystem& bs,
                             const YadeOptions& opt) {
   opt.validate();
-  if (!bs.geometry)
-    throw Error(out.string(), "the blocks have no vertices (no /geometry)",
-                "run slice-vertices on the blocks file first");
-  const Geometry& g = *bs.geometry;
+  const Geometry& g = geometry_of(bs, out.string());
   const bool pb = opt.shape == YadeShape::potential_blocks;
   // A section (docs/2d.md): each polygon is a prism of unit thickness, y in [-0.5, 0.5], that
   // moves in (x, z) only: blockedDOFs 'yXZ' (YADE's State.blockedDOFs: lower case blocks a

@@ -366,9 +366,7 @@ void check_region_precision(const ExtractOptions& opt, double tol) {
 
 SubModel extract_blocks(const BlockSystem& bs, const ExtractOptions& opt,
                         const std::string& source) {
-  if (!bs.geometry)
-    throw Error(source, "the blocks have no vertices (no /geometry)",
-                "run slice-vertices on it first");
+  geometry_of(bs, source);
   opt.validate();
   const double tol = bs.joints.options.tolerance * bs.joints.length_scale;
   check_region_precision(opt, tol);

@@ -307,6 +307,13 @@ std::vector<Block> read_blocks_group(const Group& root, bool& pruned) {
 
 namespace slice {
 
+const Geometry& geometry_of(const BlockSystem& bs, const std::string& where) {
+  if (!bs.geometry)
+    throw Error(where, "the blocks have no vertices (no /geometry)",
+                "run slice-vertices on the blocks file first");
+  return *bs.geometry;
+}
+
 using namespace h5file;
 
 void write_blocks(const fs::path& out, const BlockSystem& bs, const Provenance& prov,

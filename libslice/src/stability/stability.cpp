@@ -426,13 +426,10 @@ StabilityData analyse_stability(const BlockSystem& bs, const StabilityOptions& o
                                 StabilityStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   check_stability_options(opt);
-  if (!bs.geometry)
-    throw Error("/geometry", "the blocks have no vertices, volumes or face areas",
-                "run slice-vertices on the blocks file first");
+  const Geometry& g = geometry_of(bs, "/geometry");
   if (bs.joints.dimension != 3)
     throw Error("the blocks file", "is a 2-D section; slice-stability analyses 3-D models only",
                 "run it on a 3-D model");
-  const Geometry& g = *bs.geometry;
   StabilityData out;
   std::vector<double> water;
   const auto since = [](auto t0) {
