@@ -192,6 +192,16 @@ TEST_CASE("slice-info measures a FAB's sets: orientation, Fisher kappa, sizes, i
     CHECK_THAT(r.out, Contains("P10"));
     CHECK_THAT(r.out, Contains("\n[[sets]]\nname = \"J3\"\n"));
     CHECK_THAT(r.out, Contains("mean_dip="));
+    // The order the joints were joined in, which the entries do not carry: named beside them.
+    CHECK_THAT(r.out, Contains("these have [options] order = \"as-given\""));
+    test::write_text(tmp / "ordered.toml", std::string("[scene]\nname = \"dfn\"\n") + kDomain +
+                                               "[options]\norder = \"largest-first\"\n"
+                                               "[[dfn]]\nfile = \"net.fab\"\n");
+    const auto o = run_tool("slice-joints",
+                            {(tmp / "ordered.toml").string(), "-o", (tmp / "ordered.h5").string()});
+    REQUIRE(o.exit_code == 0);
+    const auto ri = run_tool("slice-info", {(tmp / "ordered.h5").string()});
+    CHECK_THAT(ri.out, Contains("these have [options] order = \"largest-first\""));
   }
   SECTION("a file that is not a DFN: exit 1, one line naming it") {
     test::write_text(tmp / "bad.fab", "BEGIN FORMAT\n");
@@ -235,4 +245,71 @@ TEST_CASE("the [[sets]] entries slice-info prints draw sets with the DFN's stati
     CHECK_THAT(b["p32"].get<double>(), WithinRel(a["p32"].get<double>(), 0.05));
     CHECK(b["statistics"]["sizes"]["best"] == a["statistics"]["sizes"]["best"]);
   }
+}
+
+TEST_CASE(
+    "slice-info tells an ellipse set by its joints' second moments, and its entry draws the same "
+    "shape and areas back",
+    "[tools][dfn][statistics]") {
+  // Elliptical joints (12 corners, aspect 2.5) were measured as regular 12-gons of the same
+  // area: the printed entry drew round joints. A stretched regular polygon's principal second
+  // moments give its aspect exactly.
+  test::TempDir tmp;
+  test::write_text(tmp / "ellipses.toml",
+                   std::string("[scene]\nname = \"ell\"\nseed = 7\n") + kDomain + R"([[sets]]
+name = "E"
+dip = 40
+dip_direction = 100
+fisher_kappa = 30
+count = 300
+size = { distribution = "lognormal", mean = 8, sd = 2 }
+shape = "ellipse"
+aspect = 2.5
+sides = 12
+[[sets]]
+name = "P"
+dip = 70
+dip_direction = 250
+count = 200
+size = { distribution = "exponential", mean = 5 }
+shape = "polygon"
+sides = 7
+)");
+  const auto r = run_tool("slice-joints",
+                          {(tmp / "ellipses.toml").string(), "-o", (tmp / "ellipses.h5").string()});
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  auto sets = by_name(info_json((tmp / "ellipses.h5").string()));
+  const json& e = sets["E"]["statistics"];
+  CHECK(e["sizes"]["shape"] == "ellipse");
+  CHECK(e["sizes"]["aspect"].get<double>() == Approx(2.5).epsilon(1e-9));
+  CHECK(e["sizes"]["sides"] == 12);
+  const std::string entry = e["sets_entry"];
+  CHECK_THAT(entry,
+             Contains("shape = \"ellipse\"\naspect = 2.5\nsides = 12\nfit = \"equal-area\""));
+  // Regular polygons stay polygons, with no aspect.
+  const json& p = sets["P"]["statistics"];
+  CHECK(p["sizes"]["shape"] == "polygon");
+  CHECK(p["sizes"]["sides"] == 7);
+  CHECK_FALSE(p["sizes"].contains("aspect"));
+
+  // Drawn again from the entry: the same shape, and sizes of the same areas (the lognormal's
+  // mean within the scatter of 300 draws).
+  test::write_text(tmp / "again.toml",
+                   std::string("[scene]\nname = \"again\"\nseed = 9\n") + kDomain + entry);
+  const auto a =
+      run_tool("slice-joints", {(tmp / "again.toml").string(), "-o", (tmp / "again.h5").string()});
+  INFO(a.err);
+  REQUIRE(a.exit_code == 0);
+  const json again = by_name(info_json((tmp / "again.h5").string()))["E"]["statistics"];
+  CHECK(again["sizes"]["shape"] == "ellipse");
+  CHECK(again["sizes"]["aspect"].get<double>() == Approx(2.5).epsilon(1e-9));
+  CHECK(again["sizes"]["sides"] == 12);
+  const auto lognormal_mean = [](const json& sizes) {
+    for (const auto& f : sizes["fits"])
+      if (f["distribution"] == "lognormal") return f["mean"].get<double>();
+    FAIL("no lognormal fit");
+    return 0.0;
+  };
+  CHECK(lognormal_mean(again["sizes"]) == Approx(lognormal_mean(e["sizes"])).epsilon(0.08));
 }

@@ -46,8 +46,9 @@ struct SetStatistics {
   OrientationStats orientation;  // of every joint of the set
   // Finite joints: their shape as a [[sets]] entry draws it (the most common corner count:
   // 4 corners a square, or a rectangle of the median aspect if that is above 1.01; any other
-  // count a regular polygon of that many sides), and the size of each (docs/scenes.md `size`)
-  // of that shape with the joint's area.
+  // count a regular polygon of that many sides, or an ellipse of that many corners and the
+  // median aspect of their second moments of area if that is above 1.01), and the size of
+  // each (docs/scenes.md `size`) of that shape with the joint's area.
   std::size_t finite = 0;
   JointShape shape = JointShape::square;
   std::int64_t sides = 4;
@@ -69,7 +70,8 @@ SetStatistics set_statistics(const JointSystem& js, std::size_t set);
 
 /// The size of a finite joint of area `area` as a set of this shape defines it: the side of a
 /// square, the long side of a rectangle of `aspect`, the diameter of the circle through the
-/// corners of a regular polygon of `sides`.
+/// corners of a regular polygon of `sides`, the long diameter of an ellipse of `aspect` (whose
+/// area the joint's is: an ellipse set with fit = "equal-area" draws it back).
 double equivalent_size(double area, JointShape shape, std::int64_t sides, double aspect);
 
 /// A [[sets]] entry (TOML, several lines, ending in a newline) of a stochastic set that draws

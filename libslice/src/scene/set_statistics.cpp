@@ -151,6 +151,36 @@ SizeFits fit_sizes(std::span<const double> sizes) {
   return out;
 }
 
+namespace {
+
+// The aspect of a polygon as an ellipse's: sqrt of the ratio of its principal second moments of
+// area about its centroid (a regular polygon of 3 or more corners has equal ones, so the affine
+// image of one with semi-axes a, b gives a / b exactly); 0 for a polygon without area.
+double moment_aspect(const std::vector<Vec2>& p) {
+  const std::size_t n = p.size();
+  if (n < 3) return 0;
+  const Vec2 o = p[0];  // about a corner, then moved to the centroid: less cancellation
+  double area = 0, cx = 0, cy = 0, sxx = 0, syy = 0, sxy = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 a = p[i] - o, b = p[(i + 1) % n] - o;
+    const double c = a.x() * b.y() - b.x() * a.y();
+    area += c / 2;
+    cx += (a.x() + b.x()) * c / 6;
+    cy += (a.y() + b.y()) * c / 6;
+    sxx += (a.x() * a.x() + a.x() * b.x() + b.x() * b.x()) * c / 12;
+    syy += (a.y() * a.y() + a.y() * b.y() + b.y() * b.y()) * c / 12;
+    sxy += (a.x() * b.y() + 2 * a.x() * a.y() + 2 * b.x() * b.y() + b.x() * a.y()) * c / 24;
+  }
+  if (!(std::abs(area) > 0)) return 0;
+  cx /= area, cy /= area;
+  const double ixx = sxx / area - cx * cx, iyy = syy / area - cy * cy, ixy = sxy / area - cx * cy;
+  const double mean = (ixx + iyy) / 2, half = std::hypot((ixx - iyy) / 2, ixy);
+  const double lo = mean - half, hi = mean + half;
+  return lo > 0 ? std::sqrt(hi / lo) : 0;
+}
+
+}  // namespace
+
 double equivalent_size(double area, JointShape shape, std::int64_t sides, double aspect) {
   switch (shape) {
     case JointShape::square:
@@ -187,33 +217,39 @@ SetStatistics set_statistics(const JointSystem& js, std::size_t set) {
   s.orientation = orientation_stats(normals);
   if (js.dimension != 3) return s;
 
-  // The shape: the most common corner count (the smallest on a tie); a rectangle's aspect.
-  std::map<std::size_t, std::size_t> corners;
-  std::vector<double> aspects;
+  // The shape: the most common corner count (the smallest on a tie), and the median aspect of
+  // the joints with that many corners: a quadrilateral's from its sides, any other polygon's
+  // from its second moments of area.
+  std::map<std::size_t, std::vector<double>> aspects;  // corner count -> the joints' aspects
   for (const Joint* j : mine) {
     if (j->persistent()) continue;
     ++s.finite;
     const auto& p = j->polygon_uv;
-    ++corners[p.size()];
+    auto& of = aspects[p.size()];
     if (p.size() == 4) {
       const double a = ((p[1] - p[0]).norm() + (p[3] - p[2]).norm()) / 2;
       const double b = ((p[2] - p[1]).norm() + (p[0] - p[3]).norm()) / 2;
-      if (a > 0 && b > 0) aspects.push_back(std::max(a, b) / std::min(a, b));
+      if (a > 0 && b > 0) of.push_back(std::max(a, b) / std::min(a, b));
+    } else if (const double a = moment_aspect(p); a > 0) {
+      of.push_back(a);
     }
   }
   if (s.finite == 0) return s;
   std::size_t modal = 0, most = 0;
-  for (const auto& [k, count] : corners)
-    if (count > most) modal = k, most = count;
-  // Rectangles: the median aspect above kSquare; else squares.
-  constexpr double kSquare = 1.01;
+  for (const auto& [k, of] : aspects)
+    if (of.size() > most) modal = k, most = of.size();
+  auto& of = aspects[modal];
+  std::sort(of.begin(), of.end());
+  const double median = of.empty() ? 1 : of[of.size() / 2];
+  // Elongated above kRound: rectangles, or ellipses (any other corner count: the affine image
+  // of a regular polygon, as the scene's ellipse is drawn); else squares and regular polygons.
+  constexpr double kRound = 1.01;
+  const bool long_shape = median > kRound;
+  s.aspect = long_shape ? median : 1;
   if (modal == 4) {
-    std::sort(aspects.begin(), aspects.end());
-    const double median = aspects.empty() ? 1 : aspects[aspects.size() / 2];
-    s.shape = median > kSquare ? JointShape::rectangle : JointShape::square;
-    s.aspect = median > kSquare ? median : 1;
+    s.shape = long_shape ? JointShape::rectangle : JointShape::square;
   } else {
-    s.shape = JointShape::polygon;
+    s.shape = long_shape ? JointShape::ellipse : JointShape::polygon;
     s.sides = static_cast<std::int64_t>(modal);
   }
   const std::vector<Plane> domain = solid_region(js.domain, js.dimension);
@@ -266,8 +302,13 @@ std::string sets_entry(const JointSystem& js, const SetStatistics& s) {
     }
     o << " }\n";
     o << "shape = " << quoted(to_string(s.shape)) << '\n';
-    if (s.shape == JointShape::rectangle) o << "aspect = " << num(s.aspect, 4) << '\n';
-    if (s.shape == JointShape::polygon) o << "sides = " << s.sides << '\n';
+    if (s.shape == JointShape::rectangle || s.shape == JointShape::ellipse)
+      o << "aspect = " << num(s.aspect, 4) << '\n';
+    if (s.shape == JointShape::polygon || s.shape == JointShape::ellipse)
+      o << "sides = " << s.sides << '\n';
+    // The sizes are those of ellipses of each joint's area (equivalent_size): drawn back with the
+    // same areas.
+    if (s.shape == JointShape::ellipse) o << "fit = \"equal-area\"\n";
   } else if (s.finite == 0 && s.p10 > 0) {  // persistent planes: their p10 on the scanline
     const auto xyz = [&o](const Vec3& v) {
       o << '[' << num(v.x(), 9) << ", " << num(v.y(), 9) << ", " << num(v.z(), 9) << ']';
