@@ -10,6 +10,7 @@
 
 #include "common/tool.hpp"
 #include "info/dfn_stats.hpp"
+#include "info/zones.hpp"
 #include "slice/dem.hpp"
 #include "slice/export_yade.hpp"
 #include "slice/h5io.hpp"
@@ -307,7 +308,9 @@ int main(int argc, char** argv) {
                        {"input", h.provenance.input},
                        {"input_sha256", h.provenance.input_sha256}};
     if (h.kind == slice::FileKind::joints) {
-      j.update(describe_joints(slice::read_joints(file)));
+      const slice::JointSystem js = slice::read_joints(file);
+      j.update(describe_joints(js));
+      j.update(info::describe_zones(js, nullptr));  // volumes removed need blocks
     } else {
       const slice::BlockSystem bs = slice::read_blocks(file);
       j.update(describe_joints(bs.joints));
@@ -342,11 +345,13 @@ int main(int argc, char** argv) {
         j["joints"]["p32_blocks_deterministic"] = p32.back();
         if (bs.stability) j["stability"] = describe_stability(bs);
       }
+      j.update(info::describe_zones(bs.joints, &bs));
     }
     const std::string stats = json ? "" : info::statistics_text(j);
+    const std::string zones = json ? "" : info::zones_text(j);
     if (json)
       std::cout << dump(j, 2) << '\n';
     else
-      print_text(j), std::cout << stats;
+      print_text(j), std::cout << zones << stats;
   });
 }

@@ -5,12 +5,14 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "common/tool.hpp"
+#include "info/zones.hpp"
 #include "slice/error.hpp"
 #include "slice/h5io.hpp"
 #include "slice/scene.hpp"
@@ -122,5 +124,8 @@ int main(int argc, char** argv) {
     }
     for (const auto& s : js.sets)
       if (s.mapping.given) t.say(trace_line(s));
+    // A zone above the ground removes air, not rock (issue 43): said even with -q, exit 0.
+    for (const std::string& w : info::ground_warnings(js))
+      std::cerr << "slice-joints: warning: " << slice::escape_control(w) << '\n';
   });
 }

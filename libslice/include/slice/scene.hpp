@@ -249,6 +249,35 @@ struct SectionTrace {
 };
 SectionTrace section_trace(const SectionPlane& section, double dip_deg, double dip_direction_deg);
 
+/// The kind of [[zones]] entry a removal zone came from (docs/scenes.md). HDF5 /zones/kind, by
+/// value (a public contract: only append).
+enum class ZoneKind : std::uint8_t { box = 0, planes = 1, tunnel = 2, mesh = 3, surface = 4 };
+inline constexpr std::array<std::string_view, 5> kZoneKindNames = {"box", "planes", "tunnel",
+                                                                   "mesh", "surface"};
+/// Where a zone lies against the ground (the first [[zones]] surface of the scene), as
+/// slice-joints measured it (zone_report.hpp). HDF5 /zones/above_ground, by value.
+enum class ZoneGround : std::int8_t {
+  not_checked = -1,  // no surface in the scene, the surface itself, or a 2-D scene
+  below = 0,         // wholly in the rock below the ground
+  partly_above = 1,  // part of it in the air above the ground
+  wholly_above = 2,  // all of it (in the domain) in the air: it removes no rock
+};
+const char* to_string(ZoneKind k);
+const char* to_string(ZoneGround g);
+
+/// One removal zone: where it came from and what slice-joints measured of it. A JointSystem
+/// holds one per zone (its `zones`, then its `zone_meshes`: slice-extract's zone numbers) or
+/// none (a file from before /zones/kind, or one built in code).
+struct ZoneInfo {
+  ZoneKind kind = ZoneKind::box;
+  std::int64_t entry = -1;  // the [[zones]] entry, 0-based in file order; -1 not known
+  std::int64_t line = 0;    // that entry's line in the scene file; 0 not known
+  bool cut = false;         // cut = true: its surface cut into the rock first
+  ZoneGround ground = ZoneGround::not_checked;
+  double volume = -1;               // its volume inside the domain; -1 not measured (meshes)
+  double volume_above_ground = -1;  // of that, the part above the ground; -1 not measured
+};
+
 /// What a scene file says, parsed and validated.
 struct Scene {
   std::filesystem::path source;  // the file it came from (for messages)
@@ -267,6 +296,7 @@ struct Scene {
   RockSpec rock;
   std::vector<Region> zones;              // a [[zones]] tunnel may give several (tunnel_regions)
   std::vector<TriangleMesh> zone_meshes;  // [[zones]] mesh: closed meshes (mesh.hpp)
+  std::vector<ZoneInfo> zone_info;        // one per zone (zones, then zone_meshes), or none
   std::vector<std::filesystem::path> mesh_files;  // the files they were read from (for tools'
                                                   //   same-file checks)
   std::vector<EntryPlace> joint_places;           // one per joint: its [[joints]] entry or its zone
@@ -294,6 +324,9 @@ struct JointSystem {
   /// Removal zones of any shape: closed triangle meshes (a block whose centre is inside one is
   /// removed, as for `zones`). HDF5 /zones/mesh_*.
   std::vector<TriangleMesh> zone_meshes;
+  /// One per zone (zones, then zone_meshes: the numbers slice-info lists and slice-extract
+  /// --near-zone takes), or none (files from before /zones/kind). HDF5 /zones/kind, entry, ...
+  std::vector<ZoneInfo> zone_info;
 };
 
 /// The keys a scene file's tables accept, from the lists the parser checks them against (for

@@ -31,6 +31,35 @@ void check_planes(const Checker& c, const std::string& group, const std::vector<
   }
 }
 
+// /zones/kind, entry, line, cut, above_ground, volume, volume_above_ground: one row per zone
+// (regions, then meshes), or none at all (files from before them).
+void check_zone_info(const Checker& c, const JointSystem& js) {
+  const std::size_t n = js.zones.size() + js.zone_meshes.size();
+  if (js.zone_info.empty()) return;
+  if (js.zone_info.size() != n)
+    c.fail("/zones/kind has " + str(js.zone_info.size()) + " rows; expected one per zone, " +
+           str(n) + " (" + str(js.zones.size()) + " regions, then " + str(js.zone_meshes.size()) +
+           " meshes)");
+  for (std::size_t z = 0; z < n; ++z) {
+    const ZoneInfo& i = js.zone_info[z];
+    if (static_cast<std::size_t>(i.kind) >= kZoneKindNames.size())
+      c.fail(at("/zones/kind", z) + " is " + str(std::int64_t(i.kind)) +
+             "; expected 0 box, 1 planes, 2 tunnel, 3 mesh or 4 surface");
+    if ((i.kind == ZoneKind::mesh || i.kind == ZoneKind::surface) != (z >= js.zones.size()))
+      c.fail(at("/zones/kind", z) + " is " + to_string(i.kind) + " but zone " + str(z) + " is " +
+             (z >= js.zones.size() ? "a mesh" : "a region of half-spaces"));
+    if (i.entry < -1) c.fail(at("/zones/entry", z) + " is " + str(i.entry) + "; expected >= -1");
+    if (i.line < 0) c.fail(at("/zones/line", z) + " is " + str(i.line) + "; expected >= 0");
+    const auto g = static_cast<std::int64_t>(i.ground);
+    if (g < -1 || g > 2)
+      c.fail(at("/zones/above_ground", z) + " is " + str(g) + "; expected -1, 0, 1 or 2");
+    for (const auto& [v, name] : {std::pair{i.volume, "/zones/volume"},
+                                  std::pair{i.volume_above_ground, "/zones/volume_above_ground"}})
+      if (!std::isfinite(v) || (v < 0 && v != -1))
+        c.fail(at(name, z) + " is " + num(v) + "; expected a volume >= 0, or -1 (not measured)");
+  }
+}
+
 }  // namespace
 
 void check_joints(const Checker& c, const JointSystem& js) {
@@ -149,6 +178,8 @@ void check_joints(const Checker& c, const JointSystem& js) {
     if (!analyse_polytope(both, js.options.tolerance * js.length_scale).has_interior)
       c.fail(which + " has no volume inside /domain, so it would remove nothing");
   }
+
+  check_zone_info(c, js);
 
   if (static_cast<std::size_t>(js.options.order) >= kJointOrderNames.size())
     c.fail("/options attribute order is invalid (" +
@@ -324,6 +355,28 @@ void write_joint_groups(const Group& root, const JointSystem& js) {
       g.write<double>("mesh_vertices", vertices, 3);
       g.write<std::int64_t>("mesh_triangle_offset", triangle_offset);
       g.write<std::int64_t>("mesh_triangles", triangles, 3);
+    }
+    if (!js.zone_info.empty()) {  // one row per zone, regions then meshes (docs/formats.md)
+      std::vector<std::uint8_t> kind, cut;
+      std::vector<std::int64_t> entry, line;
+      std::vector<std::int8_t> ground;
+      std::vector<double> volume, above;
+      for (const ZoneInfo& i : js.zone_info) {
+        kind.push_back(static_cast<std::uint8_t>(i.kind));
+        entry.push_back(i.entry);
+        line.push_back(i.line);
+        cut.push_back(i.cut ? 1 : 0);
+        ground.push_back(static_cast<std::int8_t>(i.ground));
+        volume.push_back(i.volume);
+        above.push_back(i.volume_above_ground);
+      }
+      g.write<std::uint8_t>("kind", kind);
+      g.write<std::int64_t>("entry", entry);
+      g.write<std::int64_t>("line", line);
+      g.write<std::uint8_t>("cut", cut);
+      g.write<std::int8_t>("above_ground", ground);
+      g.write<double>("volume", volume);
+      g.write<double>("volume_above_ground", above);
     }
   }
   {
@@ -573,6 +626,41 @@ void read_zones_group(const Group& root, JointSystem& js) {
       fail(g, std::string("/zones/") + p + " is missing, though /zones has other mesh_* " +
                   "datasets (a mesh zone)");
   if (n > 0) js.zone_meshes = read_zone_meshes(g);
+  // What each zone is (kind ...): files from before have none, and list their zones' kinds as
+  // not known; the seven datasets come together.
+  const char* info[] = {
+      "kind", "entry", "line", "cut", "above_ground", "volume", "volume_above_ground"};
+  const auto m =
+      std::count_if(std::begin(info), std::end(info), [&](const char* p) { return g.exists(p); });
+  for (const char* p : info)
+    if (m > 0 && !g.exists(p))
+      fail(g, std::string("/zones/") + p + " is missing, though /zones has " +
+                  (g.exists("kind") ? "kind" : "others of kind, entry, line, cut, ...") +
+                  " (written together)");
+  if (m == 0) return;
+  const std::size_t zones = js.zones.size() + js.zone_meshes.size();
+  const std::string because = "the zones (/zones/offset's regions, then the meshes)";
+  const auto kind = g.read<std::uint8_t>("kind");
+  expect_rows(g, "kind", kind.size(), zones, because);
+  const auto entry = g.read<std::int64_t>("entry");
+  expect_rows(g, "entry", entry.size(), zones, because);
+  const auto line = g.read<std::int64_t>("line");
+  expect_rows(g, "line", line.size(), zones, because);
+  const auto cut = g.read<std::uint8_t>("cut");
+  expect_rows(g, "cut", cut.size(), zones, because);
+  const auto ground = g.read<std::int8_t>("above_ground");
+  expect_rows(g, "above_ground", ground.size(), zones, because);
+  const auto volume = g.read<double>("volume");
+  expect_rows(g, "volume", volume.size(), zones, because);
+  const auto above = g.read<double>("volume_above_ground");
+  expect_rows(g, "volume_above_ground", above.size(), zones, because);
+  for (std::size_t z = 0; z < zones; ++z) {
+    if (cut[z] > 1)
+      fail(g, at("/zones/cut", z) + " is " + str(std::int64_t{cut[z]}) + "; expected 0 or 1");
+    // kind and above_ground ranges: check_zone_info
+    js.zone_info.push_back({static_cast<ZoneKind>(kind[z]), entry[z], line[z], cut[z] == 1,
+                            static_cast<ZoneGround>(ground[z]), volume[z], above[z]});
+  }
 }
 
 // /options: attributes; files from before an option keep its default.

@@ -19,6 +19,7 @@
 #include "slice/scene.hpp"
 #include "slice/stochastic.hpp"
 #include "slice/traces.hpp"
+#include "slice/zone_report.hpp"
 
 // The joints of a scene (generate_joints) and their order (order_joints).
 namespace slice {
@@ -69,6 +70,7 @@ JointSystem generate_joints(const Scene& scene) {
   js.rock = scene.rock;
   js.zones = scene.zones;
   js.zone_meshes = scene.zone_meshes;
+  js.zone_info = scene.zone_info;  // measured below, once the length scale is known
   const std::string where = scene.source.string();
   const Region solid{solid_region(scene.domain, scene.dimension)};
   const RegionAnalysis dom = analyse_region(solid.planes, scene.options.tolerance, scene.dimension);
@@ -81,6 +83,7 @@ JointSystem generate_joints(const Scene& scene) {
   const double tol = scene.options.tolerance * dom.length_scale;
   if (const std::string why = precision_problem(dom.info.min, dom.info.max, tol); !why.empty())
     throw Error(where, why, "move the scene nearer the origin or raise its tolerance");
+  js.zone_info = measure_zones(js);
   const Vec3 mean = dom.info.interior_point;  // the domain's vertex mean
   const DomainBox box = domain_box(solid, dom, scene.options.tolerance);
 

@@ -590,12 +590,17 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
   for (const auto* places : {&scene.joint_places, &scene.set_places})
     for (const EntryPlace& p : *places) last_stage = std::max(last_stage, p.stage);
   const auto zones = multi("zones");
+  // Zones are numbered regions first, then meshes (slice-extract --near-zone): so their info.
+  std::vector<ZoneInfo> mesh_info;
   for (std::size_t i = 0; i < zones.size(); ++i) {
     ZoneEntry z =
         read_zone(cx, *zones[i], i, last_stage + 1,
                   static_cast<std::int64_t>(joints.size() + sets.size() + dfns.size() + i));
+    const ZoneInfo info{z.kind, static_cast<std::int64_t>(i), z.place.line, z.cut};
+    scene.zone_info.insert(scene.zone_info.end(), z.regions.size(), info);
     std::move(z.regions.begin(), z.regions.end(), std::back_inserter(scene.zones));
     if (z.mesh) {
+      mesh_info.push_back(info);
       scene.zone_meshes.push_back(std::move(*z.mesh));
       scene.mesh_files.push_back(z.mesh_file);
     }
@@ -604,6 +609,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& name) {
       scene.joint_places.push_back(z.place);
     }
   }
+  scene.zone_info.insert(scene.zone_info.end(), mesh_info.begin(), mesh_info.end());
   return scene;
 }
 

@@ -139,6 +139,8 @@ struct ZoneEntry {
   std::filesystem::path mesh_file;
   std::vector<Joint> joints;
   EntryPlace place;
+  ZoneKind kind = ZoneKind::box;
+  bool cut = false;
 };
 
 // What a [[dfn]] entry makes: its fractures as joints (each in a set of the file), the file's

@@ -249,6 +249,7 @@ ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
              "add box = { min = [x, y, z], max = [x, y, z] }, planes = [ { normal = [nx, ny, "
              "nz], d = d }, ... ], tunnel = { point = [x, y, z], direction = [dx, dy, dz], "
              "length = L, radius = R }, mesh = \"cavern.obj\" or surface = \"topo.asc\"");
+    z.kind = t.find("box") ? ZoneKind::box : ZoneKind::planes;
     z.regions.push_back(region_of(t, cx.dimension));
     in_domain = meets_domain(cx, z.regions);
   } else {
@@ -274,6 +275,8 @@ ZoneEntry read_zone(const Context& cx, const toml::table& tt, std::size_t index,
                "write cut = true to cut the zone's surface into the rock before removal");
       cut = b->get();
     }
+    z.kind = tunnel ? ZoneKind::tunnel : mesh ? ZoneKind::mesh : ZoneKind::surface;
+    z.cut = cut;
     if (stage && !cut)
       r.fail(*stage,
              t.label("stage") + " applies with cut = true: without it the zone adds no joints",
