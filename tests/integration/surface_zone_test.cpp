@@ -386,7 +386,7 @@ TEST_CASE("bad surface zones are refused by slice-joints with one line, nothing 
        replace(ok, "ncols 9\nnrows 7", "ncols 300\nnrows 70"),
        kGridBox,
        {"huge.asc:2", "more than the file's"}},
-      {"topo.txt", ok, kGridBox, {"not .stl, .obj or .asc"}},
+      {"topo.txt", ok, kGridBox, {"not .stl, .obj, .asc, .tif or .tiff"}},
   };
   for (const auto& c : cases) {
     CAPTURE(c.file);

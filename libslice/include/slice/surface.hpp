@@ -1,6 +1,7 @@
 #pragma once
 // Topography surfaces ([[zones]] surface, docs/topography.md): an open triangulated height
-// field z = h(x, y), piecewise linear on its triangles, from STL or OBJ or an ESRI ASCII grid;
+// field z = h(x, y), piecewise linear on its triangles, from STL or OBJ, an ESRI ASCII grid or
+// a GeoTIFF;
 // checked to be a height field that covers the domain in plan, and closed into the solid of
 // the rock above it, which then removes blocks as a mesh zone does (mesh.hpp).
 #include <cstdint>
@@ -15,14 +16,15 @@
 
 namespace slice {
 
-/// An ESRI ASCII grid (.asc): one height per cell, at the cell's centre.
+/// An ESRI ASCII grid (.asc) or a GeoTIFF's band (.tif): one height per cell, at the cell's
+/// centre.
 struct HeightGrid {
   std::int64_t ncols = 0, nrows = 0;
-  double x0 = 0, y0 = 0;  // the centre of the lower-left (south-west) cell
-  double dx = 0, dy = 0;  // the cell size in x and y (cellsize, or dx and dy)
-  std::optional<double> nodata;
+  double x0 = 0, y0 = 0;               // the centre of the lower-left (south-west) cell
+  double dx = 0, dy = 0;               // the cell size in x and y (cellsize, or dx and dy)
+  std::optional<double> nodata;        // NaN: NaN heights are no data (a GeoTIFF's)
   std::vector<double> z;               // nrows x ncols, from the north row, as in the file
-  std::vector<std::int64_t> row_line;  // the file line each row starts on
+  std::vector<std::int64_t> row_line;  // the file line each row starts on (none: a GeoTIFF)
   double x(std::int64_t col) const { return x0 + double(col) * dx; }
   double y(std::int64_t row) const { return y0 + double(nrows - 1 - row) * dy; }
   double at(std::int64_t row, std::int64_t col) const { return z[std::size_t(row * ncols + col)]; }
@@ -36,15 +38,26 @@ struct HeightGrid {
 /// kMaxMeshFileBytes are refused by their size.
 HeightGrid read_ascii_grid(const std::filesystem::path& file);
 
+/// Reads band 1 of a north-up GeoTIFF through GDAL (docs/topography.md, "GeoTIFF"): cell
+/// centres from its geotransform (pixel-is-area or pixel-is-point alike, as GDAL gives it), its
+/// no-data value and mask as no data. Throws Error(<file>, ...) for a file GDAL's GTiff driver
+/// cannot read, more than one band, a rotated, sheared or not north-up raster, a geographic CRS
+/// (degrees), a CRS or band unit other than metres, scaled heights, a height that is neither
+/// finite nor no data, fewer than 2 x 2 or more than 2^25 cells; and, in a build without GDAL
+/// (geotiff_supported() false), for any file, saying how to get a build with it.
+HeightGrid read_geotiff(const std::filesystem::path& file);
+bool geotiff_supported();
+
 /// The grid's surface over the plan rectangle [lo, hi]: the cells between four neighbouring
 /// centres that meet its interior, each split into two triangles by the diagonal from its
 /// south-west to its north-east centre. Throws Error if the centres do not span [lo, hi]
-/// (within tol) or a no-data value is among them, naming its row, column and line.
+/// (within tol) or a no-data value is among them, naming its row, column and line (if any).
 TriangleMesh grid_surface(const HeightGrid& grid, const Vec2& lo, const Vec2& hi, double tol,
                           const std::string& where);
 
 /// Reads a surface file by its extension: .stl or .obj (read_mesh, the whole surface), or
-/// .asc (read_ascii_grid, then grid_surface over the plan rectangle [lo, hi]).
+/// .asc or .tif / .tiff (read_ascii_grid or read_geotiff, then grid_surface over the plan
+/// rectangle [lo, hi]).
 TriangleMesh read_surface(const std::filesystem::path& file, const Vec2& lo, const Vec2& hi,
                           double tol);
 

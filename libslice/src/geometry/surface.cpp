@@ -287,14 +287,15 @@ TriangleMesh grid_surface(const HeightGrid& g, const Vec2& lo, const Vec2& hi, d
   for (std::int64_t r = r0; r <= r1 + 1; ++r)
     for (std::int64_t c = c0; c <= c1 + 1; ++c) {
       const double z = g.at(r, c);
-      if (g.nodata && z == *g.nodata)
-        throw Error(where + ":" + std::to_string(g.row_line[std::size_t(r)]),
-                    "the height of row " + std::to_string(r + 1) + ", column " +
-                        std::to_string(c + 1) + " (at " + point(g.x(c), g.y(r)) +
-                        ") is the no-data value " + num(z) + ", within the domain's plan, x " +
-                        range(lo.x(), hi.x()) + " and y " + range(lo.y(), hi.y()),
-                    "fill the grid's gaps (e.g. gdal_fillnodata.py) or shrink the domain to "
-                    "where the grid has heights");
+      if (g.nodata && (z == *g.nodata || (std::isnan(z) && std::isnan(*g.nodata))))
+        throw Error(
+            g.row_line.empty() ? where : where + ":" + std::to_string(g.row_line[std::size_t(r)]),
+            "the height of row " + std::to_string(r + 1) + ", column " + std::to_string(c + 1) +
+                " (at " + point(g.x(c), g.y(r)) + ") is the no-data value " + num(z) +
+                ", within the domain's plan, x " + range(lo.x(), hi.x()) + " and y " +
+                range(lo.y(), hi.y()),
+            "fill the grid's gaps (e.g. gdal_fillnodata.py) or shrink the domain to "
+            "where the grid has heights");
       m.vertices.emplace_back(g.x(c), g.y(r), z);
     }
   const auto id = [&](std::int64_t r, std::int64_t c) { return (r - r0) * w + (c - c0); };
@@ -312,9 +313,12 @@ TriangleMesh read_surface(const std::filesystem::path& file, const Vec2& lo, con
                           double tol) {
   const std::string ext = lower(file.extension().string());
   if (ext == ".asc") return grid_surface(read_ascii_grid(file), lo, hi, tol, file.string());
+  if (ext == ".tif" || ext == ".tiff")
+    return grid_surface(read_geotiff(file), lo, hi, tol, file.string());
   if (ext != ".obj" && ext != ".stl")
-    throw Error(file.string(), "is not .stl, .obj or .asc",
-                "give a triangulated surface (STL or OBJ) or an ESRI ASCII grid (.asc)");
+    throw Error(file.string(), "is not .stl, .obj, .asc, .tif or .tiff",
+                "give a triangulated surface (STL or OBJ), an ESRI ASCII grid (.asc) or a "
+                "GeoTIFF (.tif)");
   try {
     return read_mesh(file);
   } catch (const Error& e) {  // read_mesh's fix speaks of closed meshes

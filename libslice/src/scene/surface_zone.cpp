@@ -67,7 +67,7 @@ void read_surface_zone(const Context& cx, const Tbl& t, const toml::node& node, 
                        ZoneEntry& z) {
   const Reader& r = cx.r;
   const std::filesystem::path file =
-      zone_file(cx, t, node, "surface", "an STL, OBJ or ESRI ASCII grid (.asc)");
+      zone_file(cx, t, node, "surface", "an STL, OBJ, ESRI ASCII grid (.asc) or GeoTIFF (.tif)");
   const PolytopeInfo& dom = cx.domain_info.info;
   TriangleMesh up;
   const auto fail_on = [&](const Error& e) {  // its own fix: one per line
