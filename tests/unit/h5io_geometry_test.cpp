@@ -223,10 +223,16 @@ slice::BlockSystem cubes(int n) {
 TEST_CASE("/geometry streamed run by run while it is computed gives write_blocks' bytes",
           "[h5io][geometry]") {
   test::TempDir dir;
-  const auto grid = cubes(34);  // 39,304 blocks: two runs, vertices in two chunks
+  // Catch2 runs the test case again from the top for each value of `compress` and each section
+  // (six times); the grid and its geometry computed whole are the same every time, so they are
+  // made once. Their size is not a choice: the test needs two runs of kGeometryRun blocks.
+  static const slice::BlockSystem grid = cubes(34);  // 39,304 blocks: two runs, vertices in two chunks
+  static const slice::BlockSystem held = [] {
+    auto h = grid;
+    slice::compute_geometry(h, {}, 1);
+    return h;
+  }();
   REQUIRE(grid.blocks.size() > slice::kGeometryRun);
-  auto held = grid;
-  slice::compute_geometry(held, {}, 1);
   const bool compress = GENERATE(false, true);
   CAPTURE(compress);
   slice::write_blocks(dir / "held.h5", held, {}, {compress});
@@ -292,11 +298,16 @@ TEST_CASE("the reader checks /geometry run by run as it reads and decides as a w
   test::TempDir dir;
   // 68,921 cubes: two runs of the reader (kBatch blocks each). The last cube is moved far out, so
   // that the file's vertex tolerance (its largest coordinate's) is wider than the first run's.
-  auto grid = cubes(41);
+  // Made once: Catch2 runs the test case again from the top for each of its seven sections, and
+  // the grid with its geometry is the same every time.
+  static const slice::BlockSystem grid = [] {
+    auto bs = cubes(41);
+    bs.blocks.back().origin += slice::Vec3(1e7, 0, 0);
+    bs.blocks.back().bsphere.head<3>() += slice::Vec3(1e7, 0, 0);
+    slice::compute_geometry(bs, {}, 2);
+    return bs;
+  }();
   REQUIRE(grid.blocks.size() > slice::h5file::kBatch);
-  grid.blocks.back().origin += slice::Vec3(1e7, 0, 0);
-  grid.blocks.back().bsphere.head<3>() += slice::Vec3(1e7, 0, 0);
-  slice::compute_geometry(grid, {}, 2);
   const slice::Geometry& g = *grid.geometry;
   double first_run = 0, file = 0;
   for (std::size_t v = 0; v < g.vertices.size(); ++v) {
