@@ -16,35 +16,18 @@
 #include "slice/vertices.hpp"
 #include "support/pipeline.hpp"
 #include "support/support.hpp"
+#include "support/surface_volume.hpp"
 
 using Catch::Matchers::Contains;
 using Catch::Matchers::WithinRel;
 using slice::Vec2;
 using slice::Vec3;
+using test::column_volume;
 using test::run_tool;
 
 namespace {
 
 using Tri = std::array<Vec3, 3>;
-
-// The integral over the triangle's plan of clamp(h, z0, z1) - z0, h linear on it: the part
-// with h in [z0, z1] by fans (a linear function's integral over a triangle is its area times
-// the mean of its corners), plus the part above z1 as a flat column.
-double column_volume(const Tri& t, double z0, double z1) {
-  const std::vector<Vec3> poly(t.begin(), t.end());
-  const auto integral = [&](const std::vector<Vec3>& p, bool at_top) {
-    double v = 0;
-    for (std::size_t k = 1; k + 1 < p.size(); ++k) {
-      const double area = std::abs((p[k] - p[0]).cross(p[k + 1] - p[0]).z()) / 2;
-      const double h = at_top ? z1 : (p[0].z() + p[k].z() + p[k + 1].z()) / 3;
-      v += area * (h - z0);
-    }
-    return v;
-  };
-  const auto mid =
-      slice::clip_polygon(slice::clip_polygon(poly, {Vec3::UnitZ(), z1}), {-Vec3::UnitZ(), -z0});
-  return integral(mid, false) + integral(slice::clip_polygon(poly, {-Vec3::UnitZ(), -z1}), true);
-}
 
 // The surface's height at (x, y), from the triangle that holds it in plan; NAN if none does.
 double height_at(const std::vector<Tri>& surface, const Vec2& p) {
