@@ -1,6 +1,7 @@
 #pragma once
 // VTK XML unstructured grids for ParaView (docs/design.md, "Exports") in VTK 9's file format:
-// appended raw binary data, compressed (LZ4 by default) in blocks of 32 KiB, 64-bit headers.
+// each array's data inline, base64 (well-formed XML: raw appended data stops ParaView 5.11 under
+// Debian's current expat), compressed (LZ4 by default) in blocks of 32 KiB, 64-bit headers.
 // Written as they are made, a chunk at a time, by the library's own writer (VTK's writer built a
 // second copy of the grid: 1.85 GB at 964,156 blocks); VTK's reader and ParaView read them. Outputs
 // are atomic ("<out>.partial", renamed when complete) and deterministic (the same blocks give the
@@ -14,7 +15,7 @@
 namespace slice {
 
 /// How the data of a VTU file is compressed. ParaView reads all three. At 964,156 blocks: lz4
-/// 265 MB, zlib 163 MB, none 543 MB; slice-export on 2 threads 2.0-3.8 s, 5.2 s, 3.0 s.
+/// 345 MB, zlib 210 MB, none 513 MB (base64); slice-export on 2 threads 3.4 s, 6.6 s, 2.3 s.
 enum class VtuCompressor { lz4, zlib, none };
 /// "lz4", "zlib", "none"; anything else throws Error naming `option`.
 VtuCompressor parse_vtu_compressor(const std::string& text, const std::string& option);

@@ -21,7 +21,6 @@ static_assert(std::endian::native == std::endian::little, "the files say byte_or
 
 constexpr std::size_t kBlock = 32768;     // uncompressed bytes per block (VTK's default)
 constexpr std::size_t kBatchBlocks = 64;  // blocks compressed together (2 MiB)
-constexpr std::size_t kOffsetWidth = 22;  // "offset=" value: quotes, digits, padding
 constexpr int kZlibLevel = 5;
 
 const char* compressor_name(VtuCompressor c) {
@@ -54,6 +53,35 @@ void compress_block(VtuCompressor c, const unsigned char* in, std::size_t n,
     throw Error("VTU writer", "zlib could not compress a block", "report this bug");
   out.resize(k);
 }
+
+constexpr char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+
+/// Appends the base64 of the whole triplets of `in` (n / 3 of them) to `out`.
+void encode_triplets(const unsigned char* in, std::size_t n, std::string& out) {
+  const std::size_t at = out.size();
+  out.resize(at + n / 3 * 4);
+  char* o = out.data() + at;
+  for (std::size_t k = 0; k + 3 <= n; k += 3) {
+    const std::uint32_t v = std::uint32_t(in[k]) << 16 | std::uint32_t(in[k + 1]) << 8 | in[k + 2];
+    *o++ = kBase64[v >> 18];
+    *o++ = kBase64[v >> 12 & 63];
+    *o++ = kBase64[v >> 6 & 63];
+    *o++ = kBase64[v & 63];
+  }
+}
+
+/// Appends the base64 of the last 0-2 bytes, padded with '='.
+void encode_tail(const unsigned char* in, std::size_t n, std::string& out) {
+  if (n == 0) return;
+  const std::uint32_t v = std::uint32_t(in[0]) << 16 | (n == 2 ? std::uint32_t(in[1]) << 8 : 0);
+  out += kBase64[v >> 18];
+  out += kBase64[v >> 12 & 63];
+  out += n == 2 ? kBase64[v >> 6 & 63] : '=';
+  out += '=';
+}
+
+/// The length of the base64 of `bytes` bytes.
+std::size_t encoded_size(std::size_t bytes) { return (bytes + 2) / 3 * 4; }
 
 }  // namespace
 
@@ -122,48 +150,47 @@ void File::header(std::size_t points, std::size_t cells, const std::vector<Secti
       if (a.id_type) x += " IdType=\"1\"";
       x += " Name=\"" + a.name + "\"";
       if (a.components != 1) x += " NumberOfComponents=\"" + std::to_string(a.components) + "\"";
-      x += " format=\"appended\"";
+      x += " format=\"binary\"";
       if (!a.range_min.empty())
         x += " RangeMin=\"" + a.range_min + "\" RangeMax=\"" + a.range_max + "\"";
-      x += " offset=";
-      offset_slots_.push_back(std::int64_t(x.size()));
-      x += std::string(kOffsetWidth, ' ') + "/>\n";
+      x += ">\n          ";
+      opening_.push_back(std::move(x));
+      x = "\n        </DataArray>\n";
     }
     x += "      </" + s.tag + ">\n";
   }
-  x += "    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _";
-  write(x.data(), x.size());
-  appended_start_ = std::int64_t(x.size());
+  closing_ = std::move(x) + "    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
 }
 
 void File::begin_array(std::size_t bytes) {
-  SLICE_ASSERT(array_ < offset_slots_.size() && received_ == expected_);
-  const std::int64_t at = ftello(f_);
-  offsets_.push_back(std::uint64_t(at - appended_start_));
+  SLICE_ASSERT(array_ < opening_.size() && received_ == expected_);
+  write(opening_[array_].data(), opening_[array_].size());
   expected_ = bytes;
   received_ = 0;
   block_sizes_.clear();
   pending_.clear();
-  array_header_at_ = at;
+  carried_ = 0;
   if (compressor_ == VtuCompressor::none) {
+    // The byte count and the bytes: one base64 text.
     const std::uint64_t n = bytes;
-    write(&n, sizeof n);
+    write_encoded(reinterpret_cast<const unsigned char*>(&n), sizeof n);
     return;
   }
-  // Room for the block header: count, block size, last block size, compressed sizes.
+  // Room for the block header's base64: count, block size, last block size, compressed sizes.
   const std::size_t blocks = (bytes + kBlock - 1) / kBlock;
-  const std::vector<std::uint64_t> room(3 + blocks, 0);
-  write(room.data(), room.size() * sizeof(std::uint64_t));
+  array_header_at_ = ftello(f_);
+  const std::string room(encoded_size((3 + blocks) * sizeof(std::uint64_t)), 'A');
+  write(room.data(), room.size());
 }
 
 void File::put(const void* data, std::size_t bytes) {
   received_ += bytes;
   SLICE_ASSERT(received_ <= expected_);
+  const auto* p = static_cast<const unsigned char*>(data);
   if (compressor_ == VtuCompressor::none) {
-    write(data, bytes);
+    write_encoded(p, bytes);
     return;
   }
-  const auto* p = static_cast<const unsigned char*>(data);
   pending_.insert(pending_.end(), p, p + bytes);
   if (pending_.size() >= kBatchBlocks * kBlock) flush_blocks(false);
 }
@@ -213,34 +240,70 @@ void File::land() {
 
 void File::write_batch(const Batch& b) {
   for (const auto& o : b.blocks) {
-    write(o.data(), o.size());
+    write_encoded(o.data(), o.size());
     block_sizes_.push_back(o.size());
   }
+}
+
+/// Writes the base64 of `bytes` bytes that follow those written since the array began: the
+/// whole triplets, keeping the rest for the next call or end_encoded.
+void File::write_encoded(const unsigned char* data, std::size_t bytes) {
+  encoded_.clear();
+  if (carried_ && carried_ + bytes >= 3) {
+    unsigned char t[3];
+    std::memcpy(t, carry_, carried_);
+    const std::size_t take = 3 - carried_;
+    std::memcpy(t + carried_, data, take);
+    encode_triplets(t, 3, encoded_);
+    data += take;
+    bytes -= take;
+    carried_ = 0;
+  }
+  if (carried_) {  // still short of a triplet
+    std::memcpy(carry_ + carried_, data, bytes);
+    carried_ += bytes;
+    return;
+  }
+  const std::size_t whole = bytes / 3 * 3;
+  encode_triplets(data, whole, encoded_);
+  carried_ = bytes - whole;
+  std::memcpy(carry_, data + whole, carried_);
+  write(encoded_.data(), encoded_.size());
+}
+
+/// Writes the base64 of the bytes carried over, padded: the array's base64 text ends.
+void File::end_encoded() {
+  encoded_.clear();
+  encode_tail(carry_, carried_, encoded_);
+  carried_ = 0;
+  write(encoded_.data(), encoded_.size());
 }
 
 void File::end_array() {
   SLICE_ASSERT(received_ == expected_);
   ++array_;
-  if (compressor_ == VtuCompressor::none) return;
+  if (compressor_ == VtuCompressor::none) {
+    end_encoded();
+    return;
+  }
   flush_blocks(true);
+  end_encoded();
   std::vector<std::uint64_t> h{block_sizes_.size(), kBlock, expected_ % kBlock};
   h.insert(h.end(), block_sizes_.begin(), block_sizes_.end());
   SLICE_ASSERT(h.size() == 3 + (expected_ + kBlock - 1) / kBlock);
-  seek_write(array_header_at_, h.data(), h.size() * sizeof(std::uint64_t));
+  // The header's base64 of its own (padded), as VTK's reader reads it, in the room left.
+  const auto* bytes = reinterpret_cast<const unsigned char*>(h.data());
+  const std::size_t n = h.size() * sizeof(std::uint64_t);
+  std::string text;
+  encode_triplets(bytes, n, text);
+  encode_tail(bytes + n / 3 * 3, n % 3, text);
+  SLICE_ASSERT(text.size() == encoded_size(n));
+  seek_write(array_header_at_, text.data(), text.size());
 }
 
 void File::finish() {
-  SLICE_ASSERT(array_ == offset_slots_.size());
-  const std::string footer = "\n  </AppendedData>\n</VTKFile>\n";
-  write(footer.data(), footer.size());
-  for (std::size_t k = 0; k < offset_slots_.size(); ++k) {
-    char v[kOffsetWidth + 1];
-    const int n =
-        std::snprintf(v, sizeof v, "\"%llu\"", static_cast<unsigned long long>(offsets_[k]));
-    SLICE_ASSERT(n > 0 && std::size_t(n) <= kOffsetWidth);
-    std::memset(v + n, ' ', kOffsetWidth - std::size_t(n));
-    seek_write(offset_slots_[k], v, kOffsetWidth);
-  }
+  SLICE_ASSERT(array_ == opening_.size());
+  write(closing_.data(), closing_.size());
   const bool bad = std::fflush(f_) != 0 || std::ferror(f_);
   const int closed = std::fclose(f_);
   f_ = nullptr;

@@ -1,10 +1,15 @@
 #pragma once
 // A VTK XML unstructured-grid file written as it is made (VTK 9's file format, version 1.0):
-// the XML header first, with every array's offset left blank, then the arrays' data one after
-// the other in the appended section, each compressed in blocks of 32 KiB as they come (blocks
-// compressed in parallel, batch by batch, while the caller makes the next batch), then the
-// offsets filled in. Memory: two batches, not the grid. The same values give the same bytes, on
-// any number of threads.
+// each array's data inline, in its DataArray element, base64-encoded (format="binary"), so the
+// file is well-formed XML from end to end. Raw appended data is not: the expat of an up-to-date
+// Debian 12 (2.5.0-1+deb12u5, with expat 2.6's reparse deferral) stops VTK 9.1's and ParaView
+// 5.11's reader at it (VTK issue 19258), and base64 appended data fails there the same way (the
+// reader stops feeding expat at <AppendedData>); inline data reads with every expat. The data
+// are compressed in blocks of 32 KiB as they come (blocks compressed in parallel, batch by
+// batch, while the caller makes the next batch); a compressed array's header (its block sizes)
+// is base64 of its own before the blocks' base64, left blank and filled in when the array ends.
+// Memory: two batches, not the grid. The same values give the same bytes, on any number of
+// threads.
 #include <oneapi/tbb/task_group.h>
 
 #include <cstddef>
@@ -46,9 +51,9 @@ class File {
   File(const File&) = delete;
   File& operator=(const File&) = delete;
 
-  /// The header: points and cells of the piece, then its sections (CellData, Points, Cells),
+  /// The layout: points and cells of the piece, then its sections (CellData, Points, Cells),
   /// each a list of arrays whose data must then come in that order. `scalars`: the active
-  /// cell scalars ("" for none).
+  /// cell scalars ("" for none). The XML is written around the data as they come.
   struct Section {
     std::string tag;  // "CellData", "Points", "Cells"
     std::vector<ArraySpec> arrays;
@@ -77,12 +82,17 @@ class File {
   std::FILE* f_ = nullptr;
   std::string what_;
   VtuCompressor compressor_;
-  std::vector<std::int64_t> offset_slots_;  // file positions of each array's offset="..."
-  std::vector<std::uint64_t> offsets_;      // each array's offset in the appended data
-  std::int64_t appended_start_ = 0;         // file position after the '_'
+  std::vector<std::string> opening_;  // the XML before each array's data
+  std::string closing_;               // the XML after the last array's data
   // The array being written.
   std::size_t array_ = 0, expected_ = 0, received_ = 0;
-  std::int64_t array_header_at_ = 0;
+  std::int64_t array_header_at_ = 0;  // file position of a compressed array's header
+  // Base64 of the array's bytes as they go to the file: 0-2 bytes waiting for a triplet.
+  unsigned char carry_[2] = {};
+  std::size_t carried_ = 0;
+  std::string encoded_;  // reused buffer of the encoded text
+  void write_encoded(const unsigned char* data, std::size_t bytes);
+  void end_encoded();
   std::vector<std::uint64_t> block_sizes_;  // compressed size of each block written so far
   std::vector<unsigned char> pending_;      // raw bytes not yet compressed
   // A batch being compressed (a task of `compressing_`, on the caller's arena) while the caller
