@@ -149,22 +149,9 @@ void write_tif(const test::fs::path& file, const Raster& r, const Tif& t) {
   GDALClose(ds);
 }
 
-// The scene of surface_zone_test.cpp: two sets of joints in a box, one surface zone.
+// The scene of surface_zone_test.cpp, named "dtm".
 std::string scene(const std::string& box, const std::string& zone) {
-  return "[scene]\nname = \"dtm\"\n[domain]\nbox = " + box + R"(
-[[sets]]
-name = "bedding"
-dip = 15
-dip_direction = 40
-spacing = 2.9
-[[sets]]
-name = "joints"
-dip = 75
-dip_direction = 130
-spacing = 3.4
-[[zones]]
-)" + zone +
-         "\n";
+  return test::surface_scene("dtm", box, zone);
 }
 
 struct Run {

@@ -44,20 +44,7 @@ double height_at(const std::vector<Tri>& surface, const Vec2& p) {
 }
 
 std::string scene(const std::string& box, const std::string& zone) {
-  return "[scene]\nname = \"topo\"\n[domain]\nbox = " + box + R"(
-[[sets]]
-name = "bedding"
-dip = 15
-dip_direction = 40
-spacing = 2.9
-[[sets]]
-name = "joints"
-dip = 75
-dip_direction = 130
-spacing = 3.4
-[[zones]]
-)" + zone +
-         "\n";
+  return test::surface_scene("topo", box, zone);
 }
 
 struct Result {

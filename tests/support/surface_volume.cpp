@@ -7,6 +7,24 @@
 
 namespace test {
 
+std::string surface_scene(const std::string& name, const std::string& box,
+                          const std::string& zone) {
+  return "[scene]\nname = \"" + name + "\"\n[domain]\nbox = " + box + R"(
+[[sets]]
+name = "bedding"
+dip = 15
+dip_direction = 40
+spacing = 2.9
+[[sets]]
+name = "joints"
+dip = 75
+dip_direction = 130
+spacing = 3.4
+[[zones]]
+)" + zone +
+         "\n";
+}
+
 double column_volume(const std::array<slice::Vec3, 3>& t, double z0, double z1) {
   using slice::Vec3;
   const std::vector<Vec3> poly(t.begin(), t.end());
