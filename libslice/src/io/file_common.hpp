@@ -204,6 +204,14 @@ void write_file(const fs::path& out, FileKind kind, const Provenance& prov, cons
 // A dataset must have `want` rows, as another dataset (`because`) says.
 void expect_rows(const Group& g, const std::string& name, std::size_t got, std::size_t want,
                  const std::string& because);
+// Dataset `name` of `g`, `cols` values a row, which must have `want` rows (expect_rows).
+template <class T>
+std::vector<T> read_rows(const Group& g, const std::string& name, std::size_t want,
+                         const std::string& because, std::size_t cols = 1) {
+  std::vector<T> v = cols == 1 ? g.read<T>(name) : g.read<T>(name, cols);
+  expect_rows(g, name, v.size() / cols, want, because);
+  return v;
+}
 // CSR offsets: n + 1 entries, starting at 0, never decreasing, ending at the flat length.
 void check_offsets(const Group& g, const std::string& name, const std::vector<std::int64_t>& off,
                    std::size_t n, const std::string& n_what, std::size_t flat,
