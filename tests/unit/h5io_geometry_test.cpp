@@ -218,6 +218,14 @@ slice::BlockSystem cubes(int n) {
   return bs;
 }
 
+/// The side of the smallest grid of cubes with more than `run` blocks: two runs of `run` (the
+/// library's runs are powers of two from 1,024, so n^3 stays within 2 x run).
+int side_past(std::size_t run) {
+  int n = 1;
+  while (std::size_t(n) * std::size_t(n) * std::size_t(n) <= run) ++n;
+  return n;
+}
+
 }  // namespace
 
 TEST_CASE("/geometry streamed run by run while it is computed gives write_blocks' bytes",
@@ -225,14 +233,16 @@ TEST_CASE("/geometry streamed run by run while it is computed gives write_blocks
   test::TempDir dir;
   // Catch2 runs the test case again from the top for each value of `compress` and each section
   // (six times); the grid and its geometry computed whole are the same every time, so they are
-  // made once. Their size is not a choice: the test needs two runs of kGeometryRun blocks.
-  static const slice::BlockSystem grid = cubes(34);  // 39,304 blocks: two runs, vertices in two chunks
+  // made once. Their size is not a choice: the test needs two runs of kGeometryRun blocks
+  // (35,937 blocks; 1,331 in a sanitizer build, whose runs are shorter).
+  static const slice::BlockSystem grid = cubes(side_past(slice::kGeometryRun));
   static const slice::BlockSystem held = [] {
     auto h = grid;
     slice::compute_geometry(h, {}, 1);
     return h;
   }();
   REQUIRE(grid.blocks.size() > slice::kGeometryRun);
+  REQUIRE(grid.blocks.size() <= 2 * slice::kGeometryRun);
   const bool compress = GENERATE(false, true);
   CAPTURE(compress);
   slice::write_blocks(dir / "held.h5", held, {}, {compress});
@@ -296,18 +306,19 @@ TEST_CASE("/geometry streamed run by run while it is computed gives write_blocks
 TEST_CASE("the reader checks /geometry run by run as it reads and decides as a whole check does",
           "[h5io][geometry]") {
   test::TempDir dir;
-  // 68,921 cubes: two runs of the reader (kBatch blocks each). The last cube is moved far out, so
-  // that the file's vertex tolerance (its largest coordinate's) is wider than the first run's.
-  // Made once: Catch2 runs the test case again from the top for each of its seven sections, and
-  // the grid with its geometry is the same every time.
+  // 68,921 cubes (2,197 in a sanitizer build): two runs of the reader (kBatch blocks each). The
+  // last cube is moved far out, so that the file's vertex tolerance (its largest coordinate's) is
+  // wider than the first run's. Made once: Catch2 runs the test case again from the top for each of
+  // its seven sections, and the grid with its geometry is the same every time.
   static const slice::BlockSystem grid = [] {
-    auto bs = cubes(41);
+    auto bs = cubes(side_past(slice::h5file::kBatch));
     bs.blocks.back().origin += slice::Vec3(1e7, 0, 0);
     bs.blocks.back().bsphere.head<3>() += slice::Vec3(1e7, 0, 0);
     slice::compute_geometry(bs, {}, 2);
     return bs;
   }();
   REQUIRE(grid.blocks.size() > slice::h5file::kBatch);
+  REQUIRE(grid.blocks.size() <= 2 * slice::h5file::kBatch);
   const slice::Geometry& g = *grid.geometry;
   double first_run = 0, file = 0;
   for (std::size_t v = 0; v < g.vertices.size(); ++v) {

@@ -138,8 +138,9 @@ void write_header(const Group& root, FileKind kind, const Provenance& prov, cons
 void write_joint_groups(const Group& root, const JointSystem& js);
 
 // Written and read in runs of kBatch blocks, each dataset by rows: the flat arrays of a million
-// blocks (about 310 MB at 1.0 m Table 3) are never held at once.
-inline constexpr std::size_t kBatch = 1 << 16;
+// blocks (about 310 MB at 1.0 m Table 3) are never held at once. Two geometry runs, also in a
+// sanitizer build (kGeometryRun).
+inline constexpr std::size_t kBatch = 2 * kGeometryRun;
 
 // Writes /geometry run by run, in block order (write_blocks, BlocksFileWriter): the datasets are
 // created in a fixed order, the per-block and per-face ones at their known length, vertices and
