@@ -266,7 +266,7 @@ fos[np.isnan(fos)] = np.inf
 w = vtk.vtkXMLUnstructuredGridWriter()
 w.SetFileName(sys.argv[2])
 w.SetInputData(g)
-w.SetDataModeToBinary()  # inline base64: VTK's default raw appended data stops ParaView 5.11 on a current Debian 12 (docs/formats.md)
+w.SetDataModeToBinary()  # inline base64: raw appended data stops ParaView 5.11 (docs/dem-exports.md)
 assert w.Write() == 1
 EOF
     draw --view west "$tmp/stab.vtu" "$tmp/named.png" &
