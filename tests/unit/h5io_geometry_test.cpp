@@ -413,8 +413,9 @@ TEST_CASE("the reader checks /geometry run by run as it reads and decides as a w
     CHECK(v == std::vector<slice::Vec3>(g.vertices.begin() + 8, g.vertices.begin() + 20));
     stream->read_face_vertices(5, g.face_vertices.size(), fv);
     CHECK(fv == std::vector<std::int64_t>(g.face_vertices.begin() + 5, g.face_vertices.end()));
-    // More vertices than one window of the export's reads: it reads several.
-    REQUIRE(g.vertices.size() > std::size_t(1) << 19);
+    // More vertices than one window of the export's reads (export_vtu.cpp's kWindowRows, 16
+    // runs): it reads several.
+    REQUIRE(g.vertices.size() > 16 * slice::kGeometryRun);
     slice::JointSystem js;
     const auto st = slice::export_blocks_vtu(p, dir / "streamed.vtu", slice::VtuCompressor::lz4, 2,
                                              slice::VtuIds::narrowest, &js);
